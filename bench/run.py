@@ -1,0 +1,142 @@
+"""Time the Forth benchmarks on rcl and on gforth, and check their checksums.
+
+    python3 bench/run.py [--only NAME] [--repeat K]
+
+What is measured, for each bench/*.fs program (best wall-clock time of K
+runs, default 3):
+
+* rcl: in-process, a fresh `rcl.Forth()` per run; only `m.evaluate(source)`
+  is timed (building the machine is not).  The machine's virtual clock after
+  the run (`m.seconds`, the time the program would take on the 1986 board)
+  is shown as well when the machine has one.
+* gforth: `gforth FILE -e bye` as a subprocess, minus gforth's own start-up
+  time (`gforth -e bye`, also best of K), so both columns are the time spent
+  running the program.
+
+Each program prints `CHECKSUM n`; both systems must print the number in
+bench/expected.txt (gforth runs on 64-bit cells, rcl on 16-bit cells; the
+programs are written so the result is the same on both).
+
+Reading the table: "ratio" = rcl time / gforth time (how many times slower
+rcl is than gforth).  "Mwords/s" = the program's `\\ WORDS-EXECUTED` count
+(compiled tokens executed, counted by bench/count16.py) / rcl time.  The target
+is rcl >= 6 M words/s (5x a plain Python Forth at ~1.2 M words/s), which is
+roughly a ratio of 50-125 against gforth 0.7.3 on these programs.
+"""
+import argparse
+import pathlib
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+BENCH = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(BENCH.parent))      # the rcl in this tree, not installed
+PROGRAMS = ['fib', 'sieve', 'loops', 'bubble']
+TARGET_MWORDS = 6.0
+
+
+def checksum(output):
+    """The number after CHECKSUM in a program's output, or None."""
+    m = re.search(r'CHECKSUM\s+(-?\d+)', output)
+    return int(m.group(1)) if m else None
+
+
+def best_of(k, run):
+    """Run `run()` k times; return (best seconds, result of the last run)."""
+    best, result = float('inf'), None
+    for _ in range(k):
+        t0 = time.perf_counter()
+        result = run()
+        best = min(best, time.perf_counter() - t0)
+    return best, result
+
+
+def time_rcl(source, k):
+    """(seconds, checksum, virtual seconds or None) or raise."""
+    import rcl
+    best, out, virtual = float('inf'), '', None
+    for _ in range(k):
+        m = rcl.Forth()
+        t0 = time.perf_counter()
+        out = m.evaluate(source)
+        best = min(best, time.perf_counter() - t0)
+        virtual = getattr(m, 'seconds', None)
+        if virtual is None and getattr(m, 'clock', None) is not None:
+            virtual = m.clock * 1e-9 / 36          # clock ticks are 1/36 ns
+    return best, checksum(out), virtual
+
+
+def time_gforth(path, k, startup):
+    cmd = ['gforth', str(path), '-e', 'bye']
+    run = lambda: subprocess.run(cmd, capture_output=True, text=True,
+                                 timeout=300)
+    best, proc = best_of(k, run)
+    if proc.returncode != 0:
+        raise RuntimeError(proc.stderr.strip().splitlines()[-1:] or
+                           f'exit {proc.returncode}')
+    return max(best - startup, 1e-6), checksum(proc.stdout)
+
+
+def ok(got, want):
+    return 'n/a' if got is None and want is None else (
+        'yes' if got == want else f'NO ({got})')
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument('--only', choices=PROGRAMS, help='run one program')
+    ap.add_argument('--repeat', type=int, default=3, metavar='K',
+                    help='best of K runs (default 3)')
+    args = ap.parse_args()
+
+    expected = dict(line.split() for line in
+                    (BENCH / 'expected.txt').read_text().splitlines()
+                    if line.strip())
+    gforth = shutil.which('gforth')
+    startup = 0.0
+    if gforth:
+        startup, _ = best_of(args.repeat, lambda: subprocess.run(
+            ['gforth', '-e', 'bye'], capture_output=True))
+
+    print('| benchmark | rcl s | gforth s | ratio rcl/gforth | rcl Mwords/s '
+          '| rcl virtual s | checksum ok (rcl / gforth) |')
+    print('|---|---:|---:|---:|---:|---:|---|')
+    for name in [args.only] if args.only else PROGRAMS:
+        path = BENCH / f'{name}.fs'
+        source = path.read_text()
+        words = int(re.search(r'WORDS-EXECUTED\s+(\d+)', source).group(1))
+        want = int(expected[path.name])
+
+        try:
+            rcl_s, rcl_sum, virtual = time_rcl(source, args.repeat)
+            rcl_col, rcl_ok = f'{rcl_s:.2f}', ok(rcl_sum, want)
+            mwords = f'{words / rcl_s / 1e6:.2f}'
+            virt = '-' if virtual is None else f'{virtual:.1f}'
+        except Exception as e:                     # rcl missing or failing
+            rcl_s, rcl_ok, mwords, virt = None, 'n/a', '-', '-'
+            rcl_col = f'error: {type(e).__name__}: {e}'.replace('|', '/')
+
+        if gforth:
+            try:
+                g_s, g_sum = time_gforth(path, args.repeat, startup)
+                g_col, g_ok = f'{g_s:.3f}', ok(g_sum, want)
+            except Exception as e:
+                g_s, g_ok, g_col = None, 'n/a', f'error: {e}'
+        else:
+            g_s, g_ok, g_col = None, 'n/a', 'not installed'
+
+        ratio = f'{rcl_s / g_s:.0f}x' if rcl_s and g_s else '-'
+        print(f'| {name} | {rcl_col} | {g_col} | {ratio} | {mwords} | {virt} '
+              f'| {rcl_ok} / {g_ok} |')
+
+    print(f'\nwords executed: from each file\'s WORDS-EXECUTED line; '
+          f'target >= {TARGET_MWORDS:g} M words/s.')
+    if gforth:
+        print(f'gforth start-up ({startup * 1000:.1f} ms) subtracted from the '
+              f'gforth times.')
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,70 @@
+"""Errors of rcl: one base class, and the Forth error every layer raises.
+
+A Forth error travels as a Python exception carrying a Forth 2012 THROW
+code, so CATCH can catch it; at the top the machine prints it the F83 way
+(a blank, the message, a blank) and aborts.
+"""
+
+
+class RclError(Exception):
+    """Base of every rcl error."""
+
+
+# Standard THROW codes used by the machine, with the F83 text for each.
+MESSAGES = {
+    -1: "",                       # ABORT: F83 prints two blanks
+    -3: "Stack Overflow",
+    -4: "Stack Underflow",
+    -5: "Return Stack Overflow",
+    -6: "Return Stack Underflow",
+    -9: "Invalid memory address",
+    -13: "?",
+    -14: "Compile only",
+    -15: "Below fence",
+    -16: "Name expected",
+    -22: "Conditionals Wrong",
+    -28: "Interrupted",
+    -37: "File I/O exception",
+    -38: "File not found",
+    -256: "Stack Changed",
+    -257: "Uninitialized execution vector.",
+    -258: "Not enough Parameters",
+    -259: "Step limit",
+    -260: "Invalid execution token",
+    -261: "Dictionary full",
+    -262: "Line too long",
+    -263: "No CODE for",
+}
+
+
+class ForthError(RclError):
+    """A Forth error: THROW code, F83 message, offending word, and where.
+
+    str() gives what F83 shows: `FOO  ?` for an unknown word, the message
+    alone otherwise, prefixed with `file:line: ` inside a loaded file.
+    """
+
+    def __init__(self, code, message=None, word=None):
+        if message is None:
+            message = MESSAGES.get(code, "Error %d" % code)
+        super().__init__(message)
+        self.code = code
+        self.message = message
+        self.word = word
+        self.output = ""
+        self.file = None
+        self.line = None
+
+    def display(self):
+        """The text F83 prints between the blanks, with the word if any."""
+        if self.word is not None:
+            return "%s  %s" % (self.word, self.message)
+        return self.message
+
+    def __str__(self):
+        where = "%s:%s: " % (self.file, self.line) if self.file else ""
+        return where + self.display()
+
+
+class Bye(RclError):
+    """BYE was executed: the caller should leave."""

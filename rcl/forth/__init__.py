@@ -1,0 +1,5 @@
+"""The Forth machine: memory image, dictionary, inner and outer interpreter.
+
+Read the modules in this order (jonesforth's order): memory, header,
+primitives, inner, compiler, numbers, outer, machine.
+"""

@@ -1,0 +1,437 @@
+"""Threaded code compiled to Python: the fast path of the inner interpreter.
+
+A definition's threaded code is cut into basic blocks: straight runs of
+simple primitives, each ended by a terminator (branch, loop, call, EXIT)
+or by the start of another block. Each block becomes Python code in one
+function per definition:
+
+    def f(m):                          # : COUNTDOWN  BEGIN 1- DUP 0= UNTIL ;
+        s = m.s; rs = m.rs; ...
+        b = 0
+        while True:
+            if b <= 0:                 # block 0: 1- DUP 0= ?BRANCH
+                if m.clock + PRE >= m.deadline:
+                    slow(m, SEQ0)      # exact: one primitive at a time
+                    ...terminator on the real stack...
+                else:
+                    m.clock += COST    # the whole block's cost at once
+                    t1 = s.pop(); t2 = (t1 - 1) & 0xFFFF
+                    t3 = 0xFFFF if t2 == 0 else 0
+                    s.append(t2)
+                    if t3 == 0: b = 0; continue
+            if b <= 1:                 # block 1: EXIT
+                ...
+                return rs.pop()
+
+The clever part, explained once: inside a block the data stack is kept in
+Python locals (`vs`, a list of names or constants standing for the top
+cells); only at a block's end, or before anything that looks at the real
+stack, are they written back. Guards `if b <= k` let a block fall into the
+next one with a single comparison, while a jump sets b and goes round.
+
+Exactness: a block runs fast only if no interrupt or housekeeping falls due
+before its last primitive; otherwise `slow` runs it one primitive at a
+time, checking before each, so interrupts fire between exactly the same
+primitives as in the reference loop.
+
+Memory stays the truth: every cell the compiled code depends on is marked
+in `watch`; a store there throws all compiled code away (it is rebuilt on
+the next call). A definition already running finishes in its old form.
+"""
+from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
+from rcl.forth.primitives import DEFAULT_COST, REGISTRY
+from rcl.forth import inner
+from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args, rt_push
+
+MAX_INSTRUCTIONS = 4000
+PURE_FORBIDDEN = ("mem", "m.", "rs", "W[", "s.")
+
+
+def slow(m, seq, term_cost):
+    """Run a block's primitives one by one, then account for its terminator."""
+    for cost, fn, args in seq:
+        if m.clock >= m.deadline:
+            m.housekeep()
+        m.clock += cost
+        fn(m, *args)
+    if m.clock >= m.deadline:
+        m.housekeep()
+    m.clock += term_cost
+
+
+def rt_con(m, a):
+    m.s.append(m.memory.fetch(a))
+
+
+def rt_2con(m, a):
+    m.s.extend(m.memory.dfetch(a))
+
+
+class Instr:
+    """One decoded cell of threaded code."""
+    __slots__ = ("addr", "xt", "op", "args", "next", "target", "cost", "prim")
+
+    def __init__(self, addr, xt, op, args, nxt, cost, prim=None, target=None):
+        self.addr, self.xt, self.op, self.args = addr, xt, op, args
+        self.next, self.cost, self.prim, self.target = nxt, cost, prim, target
+
+
+TERMINATORS = {"EXIT", "BRANCH", "?BRANCH", "(DO)", "(?DO)", "(LOOP)", "(+LOOP)",
+               "(LEAVE)", "(?LEAVE)", "(DOES>)", "EXECUTE", "colon", "does",
+               "defer", "call", "bad"}
+NO_FALLTHROUGH = {"EXIT", "BRANCH", "(LEAVE)", "(DOES>)"}
+
+
+def decode(m, ip):
+    """Decode the instruction at ip into an Instr."""
+    fetch = m.memory.fetch
+    xt = fetch(ip)
+    nxt = (ip + 2) & MASK
+    cf = fetch(xt)
+    if cf >= PRIM_LIMIT:
+        return Instr(ip, xt, "does", (cf,), nxt, DEFAULT_COST)
+    p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
+    if p is None:
+        return Instr(ip, xt, "bad", (), nxt, DEFAULT_COST)
+    name = CONTROL.get(cf)
+    if name is not None:
+        target = None
+        if name in ("BRANCH", "?BRANCH", "(DO)", "(?DO)", "(LOOP)", "(+LOOP)"):
+            target = fetch(nxt)
+            nxt = (nxt + 2) & MASK
+        return Instr(ip, xt, name, (), nxt, p.cost, p, target)
+    if p.kind == "literal":
+        args, nxt = decode_args(m, p, nxt)
+        return Instr(ip, xt, "literal", args, nxt, p.cost, p)
+    if p.kind == "runtime":
+        body = (xt + 2) & MASK
+        kind = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
+                N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
+                N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}.get(cf, "call")
+        return Instr(ip, xt, kind, (body,), nxt, p.cost, p)
+    return Instr(ip, xt, "call" if p.kind == "call" else "simple", (), nxt, p.cost, p)
+
+
+def walk(m, entry):
+    """All instructions reachable from entry, by address; None if too many."""
+    code, todo, targets = {}, [entry], {entry}
+    while todo:
+        ip = todo.pop()
+        while ip not in code:
+            if len(code) >= MAX_INSTRUCTIONS:
+                return None, None
+            ins = decode(m, ip)
+            code[ip] = ins
+            if ins.target is not None:
+                targets.add(ins.target)
+                todo.append(ins.target)
+            if ins.op in TERMINATORS:
+                targets.add(ins.next)
+            if ins.op in NO_FALLTHROUGH:
+                break
+            ip = ins.next
+    return code, targets
+
+
+class Gen:
+    """Python source for one definition."""
+
+    def __init__(self, m, entry):
+        self.m = m
+        self.entry = entry
+        self.lines = []
+        self.consts = {}
+        self.ntemp = 0
+        self.vs = []
+        self.dpl = None
+
+    # ------------------------------------------------------------ helpers
+    def const(self, obj, hint="K"):
+        name = "%s%d" % (hint, len(self.consts))
+        self.consts[name] = obj
+        return name
+
+    def temp(self):
+        self.ntemp += 1
+        return "t%d" % self.ntemp
+
+    def emit(self, line, ind):
+        self.lines.append("    " * ind + line)
+
+    def take(self, n, ind):
+        """n input atoms, deepest first, loading from the real stack."""
+        have = self.vs[-n:] if n <= len(self.vs) else list(self.vs)
+        del self.vs[len(self.vs) - len(have):]
+        loaded = []
+        for _ in range(n - len(have)):
+            t = self.temp()
+            self.emit("%s = s.pop()" % t, ind)
+            loaded.insert(0, t)
+        return loaded + have
+
+    def flush_dpl(self, ind):
+        if self.dpl is not None:
+            a = self.m.a_dpl
+            v = self.dpl & MASK
+            self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind)
+            self.dpl = None
+
+    def flush(self, ind):
+        self.flush_dpl(ind)
+        if len(self.vs) == 1:
+            self.emit("s.append(%s)" % self.vs[0], ind)
+        elif self.vs:
+            self.emit("s.extend((%s))" % ", ".join(self.vs), ind)
+        self.vs = []
+
+    # --------------------------------------------------------- simple ops
+    def op_inline(self, p, ind):
+        inputs, outputs = p.inline[0].split(), p.inline[1]
+        stmt = p.inline[2] if len(p.inline) > 2 else None
+        if p.touches_memory:
+            self.flush_dpl(ind)
+        atoms = self.take(len(inputs), ind)
+        env = dict(zip(inputs, atoms))
+        outs = [outputs] if isinstance(outputs, str) else list(outputs)
+        if stmt:
+            for line in stmt.split("\n"):
+                self.emit(subst(line, env), ind)
+        pure = all(a.lstrip("-").isdigit() for a in atoms) and not stmt
+        for o in outs:
+            if o in env:
+                self.vs.append(env[o])
+                continue
+            text = subst(o, env)
+            if pure and not any(f in o for f in PURE_FORBIDDEN):
+                self.vs.append(str(eval(text)))
+                continue
+            t = self.temp()
+            self.emit("%s = %s" % (t, text), ind)
+            self.vs.append(t)
+
+    def op_simple(self, ins, ind):
+        p, op = ins.prim, ins.op
+        if op == "literal":
+            lit = p.extra.get("lit")
+            if lit is not None:                    # numbers: pushed as constants
+                cells, dpl = lit(ins.args)
+                self.vs.extend(str(c) for c in cells)
+                if dpl is not None:
+                    self.dpl = dpl
+                return
+            self.flush(ind)
+            self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
+        elif op == "var":
+            self.vs.append(str(ins.args[0]))
+        elif op in ("con", "2con"):
+            self.flush_dpl(ind)
+            a = ins.args[0]
+            cell = "(mem[%d] | (mem[%d] << 8))"
+            if op == "con":
+                t = self.temp()
+                self.emit("%s = %s" % (t, cell % (a, (a + 1) & MASK)), ind)
+                self.vs.append(t)
+            else:
+                lo, hi = self.temp(), self.temp()
+                self.emit("%s = %s" % (lo, cell % ((a + 2) & MASK, (a + 3) & MASK)), ind)
+                self.emit("%s = %s" % (hi, cell % (a, (a + 1) & MASK)), ind)
+                self.vs.extend((lo, hi))
+        elif p.inline is not None:
+            self.op_inline(p, ind)
+        else:
+            self.flush(ind)
+            self.emit("%s(m)" % self.const(p.fn, "P"), ind)
+
+    def slow_entry(self, ins):
+        """(cost, fn, args) for the slow path."""
+        p, op = ins.prim, ins.op
+        if op == "literal":
+            return (ins.cost, p.fn, ins.args)
+        if op == "var":
+            return (ins.cost, rt_push, ins.args)
+        if op == "con":
+            return (ins.cost, rt_con, ins.args)
+        if op == "2con":
+            return (ins.cost, rt_2con, ins.args)
+        return (ins.cost, p.fn, ())
+
+    # --------------------------------------------------------- terminators
+    def jump(self, addr, ind):
+        self.emit("b = %d; continue" % self.index[addr], ind)
+
+    def goto_next(self, k, addr, ind):
+        """Continue at addr: fall into block k+1 or jump."""
+        if self.index.get(addr) != k + 1:
+            self.jump(addr, ind)
+
+    def call_tail(self, ins, k, ind):
+        ret = ins.next
+        self.emit("if r != %d: return r" % ret, ind)
+        self.goto_next(k, ret, ind)
+
+    def terminator(self, ins, k, ind):
+        op = ins.op
+        if op is None:                    # block ends where another begins
+            self.flush(ind)
+            self.goto_next(k, self.next_addr, ind)
+        elif op == "EXIT":
+            self.flush(ind)
+            self.emit("return rs.pop()", ind)
+        elif op == "BRANCH":
+            self.flush(ind)
+            self.goto_next(k, ins.target, ind)
+        elif op == "?BRANCH":
+            (f,) = self.take(1, ind)
+            self.flush(ind)
+            self.emit("if %s == 0: b = %d; continue" % (f, self.index[ins.target]), ind)
+            self.goto_next(k, ins.next, ind)
+        elif op in ("(DO)", "(?DO)"):
+            limit, start = self.take(2, ind)
+            self.flush(ind)
+            if op == "(?DO)":
+                self.emit("if %s == %s: b = %d; continue"
+                          % (start, limit, self.index[ins.target]), ind)
+            self.emit("_l = (%s + 0x8000) & 0xFFFF" % limit, ind)
+            self.emit("rs.extend((%d, _l, (%s - _l) & 0xFFFF))" % (ins.target, start), ind)
+            self.goto_next(k, ins.next, ind)
+        elif op == "(LOOP)":
+            self.flush(ind)
+            self.emit("_x = rs[-1]", ind)
+            self.emit("if _x != 0x7FFF: rs[-1] = _x + 1 & 0xFFFF; b = %d; continue"
+                      % self.index[ins.target], ind)
+            self.emit("del rs[-3:]", ind)
+            self.goto_next(k, ins.next, ind)
+        elif op == "(+LOOP)":
+            (n,) = self.take(1, ind)
+            self.flush(ind)
+            self.emit("_y = ((rs[-1] ^ 0x8000) - 0x8000) + ((%s ^ 0x8000) - 0x8000)" % n, ind)
+            self.emit("if -0x8000 <= _y <= 0x7FFF: rs[-1] = _y & 0xFFFF; b = %d; continue"
+                      % self.index[ins.target], ind)
+            self.emit("del rs[-3:]", ind)
+            self.goto_next(k, ins.next, ind)
+        elif op in ("(LEAVE)", "(?LEAVE)"):
+            i2 = ind
+            if op == "(?LEAVE)":
+                (f,) = self.take(1, ind)
+                self.flush(ind)
+                self.emit("if %s:" % f, ind)
+                i2 = ind + 1
+            self.flush(i2)
+            self.emit("_t = rs[-3]; del rs[-3:]", i2)
+            self.emit("b = BMAP.get(_t)", i2)
+            self.emit("if b is None: return m.run_from(_t, d0)", i2)
+            self.emit("continue", i2)
+            if op == "(?LEAVE)":
+                self.goto_next(k, ins.next, ind)
+        elif op == "(DOES>)":
+            self.flush(ind)
+            self.emit("m.dictionary.set_does(%d)" % ins.next, ind)
+            self.emit("return rs.pop()", ind)
+        elif op == "colon" or op == "does":
+            self.flush(ind)
+            if op == "colon":
+                code = ins.args[0]
+            else:
+                code = ins.args[0]
+                self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind)
+            self.emit("rs.append(%d)" % ins.next, ind)
+            self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
+            self.emit("r = (FN(%d) or CP(%d))(m)" % (code, code), ind)
+            self.call_tail(ins, k, ind)
+        elif op == "EXECUTE":
+            (x,) = self.take(1, ind)
+            self.flush(ind)
+            self.emit("r = m.call(%s, %d)" % (x, ins.next), ind)
+            self.call_tail(ins, k, ind)
+        elif op in ("defer", "bad") or (op == "call" and ins.prim.kind == "runtime"):
+            self.flush(ind)
+            self.emit("r = m.call(%d, %d)" % (ins.xt, ins.next), ind)
+            self.call_tail(ins, k, ind)
+        elif op == "call":
+            self.flush(ind)
+            self.emit("%s(m)" % self.const(ins.prim.fn, "P"), ind)
+            self.goto_next(k, ins.next, ind)
+
+    # ---------------------------------------------------------- assembly
+    def block(self, k, ops, term, ind):
+        pre = sum(i.cost for i in ops)
+        # A runtime terminator (DEFER, vocabulary) gets its own cost from m.call.
+        tcost = term.cost if term is not None and term.op not in ("defer", "bad") \
+            and not (term.op == "call" and term.prim.kind == "runtime") else 0
+        if term is not None and term.op == "EXECUTE":
+            tcost = term.cost
+        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
+        self.emit("if m.clock + %d >= m.deadline:" % pre, ind)
+        self.emit("slow(m, %s, %d)" % (seq, tcost), ind + 1)
+        self.vs, self.dpl = [], None
+        self.terminator(term or Instr(0, 0, None, (), 0, 0), k, ind + 1)
+        self.emit("else:", ind)
+        self.emit("m.clock += %d" % (pre + tcost), ind + 1)
+        self.vs, self.dpl = [], None
+        for i in ops:
+            self.op_simple(i, ind + 1)
+        self.terminator(term or Instr(0, 0, None, (), 0, 0), k, ind + 1)
+
+    def build(self):
+        code, targets = walk(self.m, self.entry)
+        if code is None:
+            return None, ()
+        starts = sorted(a for a in targets if a in code)
+        self.index = {a: i for i, a in enumerate(starts)}
+        self.emit("def f(m):", 0)
+        self.emit("s = m.s; rs = m.rs; mem = m.mem; W = m.watch; d0 = len(rs)", 1)
+        self.emit("b = 0", 1)
+        self.emit("while True:", 1)
+        for k, a in enumerate(starts):
+            ops, term, ip = [], None, a
+            while True:
+                ins = code[ip]
+                if ins.op in TERMINATORS:
+                    term = ins
+                    break
+                ops.append(ins)
+                ip = ins.next
+                if ip in self.index or ip not in code:
+                    break
+            self.next_addr = ip if term is None else None
+            self.emit("if b <= %d:   # %04X" % (k, a), 2)
+            self.block(k, ops, term, 3)
+        self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2)
+        marks = set()
+        for ins in code.values():
+            marks.update(range(ins.addr, ins.next if ins.next > ins.addr else ins.addr + 2))
+            marks.update((ins.xt, (ins.xt + 1) & MASK))
+        return "\n".join(self.lines), marks
+
+
+def subst(text, env):
+    """Replace single-letter input names in a template by their atoms."""
+    out, i = [], 0
+    while i < len(text):
+        c = text[i]
+        prev = text[i - 1] if i else " "
+        nxt = text[i + 1] if i + 1 < len(text) else " "
+        if c in env and not (prev.isalnum() or prev in "_.'") and not (nxt.isalnum() or nxt == "_"):
+            out.append(env[c])
+        else:
+            out.append(c)
+        i += 1
+    return "".join(out)
+
+
+def compile_code(m, entry):
+    """Compile the threaded code at entry; returns the Python function."""
+    gen = Gen(m, entry)
+    src, marks = gen.build()
+    if src is None:
+        def f(m, entry=entry):
+            return m.run_from(entry, len(m.rs))
+        return f
+    env = dict(gen.consts)
+    env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
+    exec(src, env)
+    for a in marks:
+        m.watch[a] |= WATCH_CODE
+    f = env["f"]
+    f.source = src
+    return f

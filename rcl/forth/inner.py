@@ -1,0 +1,305 @@
+"""The inner interpreter: how threaded code runs, and where time is counted.
+
+Threaded code is a sequence of cells, each an execution token (xt): the
+address of a word's code field. The code field holds a primitive number
+(< PRIM_LIMIT) or, for a DOES> child, the address of the code after DOES>.
+
+    : SQ  DUP * ;          SQ's body:  | xt DUP | xt * | xt EXIT |
+                                          ^ ip
+
+Two ways to run it, with the same meaning:
+
+* compiled (compiler.py): each definition becomes a Python function that
+  runs from its first cell until its EXIT and returns the address EXIT
+  popped. This is the fast path.
+* `run_from` below: the reference loop, one cell at a time. Used where the
+  compiled path cannot go (a return address that was tampered with, code
+  that cannot be compiled).
+
+The call protocol both follow: the caller pushes its return address on the
+return stack and calls the callee's function; the callee's EXIT pops it and
+returns it. If the popped address is not the one the caller pushed (the
+callee played with R> and >R), the caller returns it in turn, and so on up
+to `execute`, which carries on at that address with `run_from`. So the
+return stack is always the truth.
+
+Time: every primitive adds its cost to `clock` (units of 1/36 ns). Before a
+primitive runs, if `clock >= deadline`, `housekeep` runs: it services a due
+interrupt (the handler word runs to completion on its own stacks, masked)
+and checks the stack limits and the step budget.
+"""
+import math
+
+from rcl.errors import ForthError
+from rcl.forth.memory import MASK, PRIM_LIMIT
+from rcl.forth.primitives import DEFAULT_COST, REGISTRY, prim
+
+SENTINEL = 0                 # return address meaning "back to Python"
+STACK_CELLS = 1000           # data stack limit (Stack Overflow beyond)
+RSTACK_CELLS = 1000          # return stack limit
+HOUSEKEEPING = 36_000_000 * 100   # check limits every 100 ms of virtual time
+
+
+# ---------------------------------------------------------------- runtimes
+# What a defined word's code field does. fn(m, xt, ret) -> next ip.
+
+@prim("(DOCOL)", kind="runtime", hidden=True)
+def docol(m, xt, ret):
+    return m.enter((xt + 2) & MASK, ret)
+
+
+@prim("(DOVAR)", kind="runtime", hidden=True)
+def dovar(m, xt, ret):
+    m.s.append((xt + 2) & MASK)
+    return ret
+
+
+@prim("(DOCON)", kind="runtime", hidden=True)
+def docon(m, xt, ret):
+    m.s.append(m.memory.fetch((xt + 2) & MASK))
+    return ret
+
+
+@prim("(DO2CON)", kind="runtime", hidden=True)
+def do2con(m, xt, ret):
+    m.s.extend(m.memory.dfetch((xt + 2) & MASK))
+    return ret
+
+
+@prim("(DOVALUE)", kind="runtime", hidden=True)
+def dovalue(m, xt, ret):
+    m.s.append(m.memory.fetch((xt + 2) & MASK))
+    return ret
+
+
+@prim("(DO2VALUE)", kind="runtime", hidden=True)
+def do2value(m, xt, ret):
+    m.s.extend(m.memory.dfetch((xt + 2) & MASK))
+    return ret
+
+
+@prim("(DODEFER)", kind="runtime", hidden=True)
+def dodefer(m, xt, ret):
+    return m.call(m.memory.fetch((xt + 2) & MASK), ret)
+
+
+@prim("(DOVOC)", kind="runtime", hidden=True)
+def dovoc(m, xt, ret):
+    m.dictionary.set_context_top((xt + 2) & MASK)
+    return ret
+
+
+@prim("(DOMARKER)", kind="runtime", hidden=True)
+def domarker(m, xt, ret):
+    m.dictionary.restore_marker((xt + 2) & MASK)
+    return ret
+
+
+# ------------------------------------------------------- control primitives
+# Their meaning lives in run_from and in the compiler; fn stays None.
+
+for _name, _effect in [
+        ("EXIT", "( -- ) return from the current definition"),
+        ("BRANCH", "( -- ) jump to the inline address"),
+        ("?BRANCH", "( f -- ) jump to the inline address if f is zero"),
+        ("(DO)", "( limit start -- ) R: -- exit limit' index'"),
+        ("(?DO)", "( limit start -- ) skip the loop if limit = start"),
+        ("(LOOP)", "( -- ) add 1 to the index; loop back unless it crossed"),
+        ("(+LOOP)", "( n -- ) add n to the index; loop back unless it crossed"),
+        ("(LEAVE)", "( -- ) leave the loop now"),
+        ("(?LEAVE)", "( f -- ) leave the loop if f is non-zero"),
+        ("(DOES>)", "( -- ) make the last word run the code after DOES>"),
+        ("EXECUTE", "( xt -- ) run the word xt")]:
+    prim(_name, _effect, kind="control")(None)
+
+CONTROL = {p.number: p.name for p in REGISTRY[1:] if p.kind == "control"}
+N = {p.name: p.number for p in REGISTRY[1:]}
+DOCOL = N["(DOCOL)"]
+
+
+def rt_push(m, v):
+    m.s.append(v)
+
+
+class Inner:
+    """The inner-interpreter half of the machine (mixed into Forth)."""
+
+    def _init_inner(self):
+        self.s = []
+        self.rs = []
+        self.irq_s = []
+        self.irq_rs = []
+        self.clock = 0
+        self.deadline = HOUSEKEEPING
+        self.hk_next = HOUSEKEEPING
+        self.clock_limit = math.inf
+        self.masked = False
+        self.irq = None          # interrupt source: .due and .service(machine)
+        self.fn = {}             # code address -> compiled function
+        self.interrupts = 0
+
+    # ---------------------------------------------------------- calling
+    def enter(self, addr, ret):
+        """Run the threaded code at addr as a call returning to ret."""
+        rs = self.rs
+        rs.append(ret)
+        if len(rs) > RSTACK_CELLS:
+            self.rs_overflow()
+        f = self.fn.get(addr) or self.compile(addr)
+        return f(self)
+
+    def call(self, xt, ret):
+        """Run the word xt as if called from threaded code; -> next ip."""
+        mem = self.mem
+        cf = mem[xt] | (mem[(xt + 1) & MASK] << 8)
+        if self.clock >= self.deadline:
+            self.housekeep()
+        if cf >= PRIM_LIMIT:                       # a DOES> child
+            self.clock += DEFAULT_COST
+            self.s.append((xt + 2) & MASK)
+            return self.enter(cf, ret)
+        p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
+        if p is None:
+            raise ForthError(-260)
+        self.clock += p.cost
+        if p.kind == "runtime":
+            return p.fn(self, xt, ret)
+        if p.kind in ("simple", "call"):
+            p.fn(self)
+            return ret
+        if p.name == "EXECUTE":
+            return self.call(self.s.pop(), ret)
+        raise ForthError(-14, "Compile only", p.name)
+
+    def execute(self, xt):
+        """Run xt from Python until it returns."""
+        r = self.call(xt, SENTINEL)
+        if r != SENTINEL:
+            self.run_from(r)
+
+    def rs_overflow(self):
+        del self.rs[:]
+        raise ForthError(-5)
+
+    # ------------------------------------------------- reference interpreter
+    def run_from(self, ip, base=None):
+        """Interpret threaded code from ip, one cell at a time.
+
+        Stops when ip reaches SENTINEL, or, with `base`, at the EXIT that
+        leaves the return stack below `base` (returning the popped ip).
+        """
+        s, rs, fetch = self.s, self.rs, self.memory.fetch
+        while base is not None or ip != SENTINEL:
+            xt = fetch(ip)
+            ip = (ip + 2) & MASK
+            cf = fetch(xt)
+            name = CONTROL.get(cf)
+            if name is None:
+                p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
+                if p is not None and p.kind == "literal":
+                    if self.clock >= self.deadline:
+                        self.housekeep()
+                    self.clock += p.cost
+                    args, ip = decode_args(self, p, ip)
+                    p.fn(self, *args)
+                else:
+                    ip = self.call(xt, ip)
+                continue
+            if self.clock >= self.deadline:
+                self.housekeep()
+            self.clock += REGISTRY[cf].cost
+            if name == "EXIT":
+                ip = rs.pop()
+                if base is not None and len(rs) < base:
+                    return ip
+            elif name == "BRANCH":
+                ip = fetch(ip)
+            elif name == "?BRANCH":
+                ip = fetch(ip) if s.pop() == 0 else (ip + 2) & MASK
+            elif name in ("(DO)", "(?DO)"):
+                start, limit = s.pop(), s.pop()
+                if name == "(?DO)" and start == limit:
+                    ip = fetch(ip)
+                    continue
+                lim = (limit + 0x8000) & MASK
+                rs.extend((fetch(ip), lim, (start - lim) & MASK))
+                ip = (ip + 2) & MASK
+            elif name in ("(LOOP)", "(+LOOP)"):
+                n = 1 if name == "(LOOP)" else s.pop()
+                y = ((rs[-1] ^ 0x8000) - 0x8000) + ((n ^ 0x8000) - 0x8000)
+                if -0x8000 <= y <= 0x7FFF:
+                    rs[-1] = y & MASK
+                    ip = fetch(ip)
+                else:
+                    del rs[-3:]
+                    ip = (ip + 2) & MASK
+            elif name == "(LEAVE)" or (name == "(?LEAVE)" and s.pop()):
+                ip = rs[-3]
+                del rs[-3:]
+            elif name == "(DOES>)":
+                self.dictionary.set_does(ip)
+                ip = rs.pop()
+                if base is not None and len(rs) < base:
+                    return ip
+            elif name == "EXECUTE":
+                ip = self.call(s.pop(), ip)
+        return ip
+
+    # ------------------------------------------------ time and interrupts
+    def housekeep(self):
+        """Clock passed the deadline: limits, then any due interrupt."""
+        if len(self.s) > STACK_CELLS:
+            del self.s[:]
+            raise ForthError(-3)
+        if len(self.rs) > RSTACK_CELLS:
+            self.rs_overflow()
+        if self.clock >= self.clock_limit:
+            self.clock_limit = math.inf
+            raise ForthError(-259)
+        if self.clock >= self.hk_next:
+            self.hk_next = self.clock + HOUSEKEEPING
+        src = self.irq
+        if src is not None and not self.masked and src.due is not None \
+                and self.clock >= src.due:
+            self.interrupt(src)
+        self.reschedule()
+
+    def reschedule(self):
+        """Recompute the deadline after an interrupt source changed."""
+        d = min(self.hk_next, self.clock_limit)
+        src = self.irq
+        if src is not None and not self.masked and src.due is not None:
+            d = min(d, src.due)
+        self.deadline = d
+
+    def interrupt(self, src):
+        """Service src with interrupts masked and the handler's own stacks."""
+        saved = self.s, self.rs
+        self.s, self.rs = self.irq_s, self.irq_rs
+        self.masked = True
+        self.deadline = min(self.hk_next, self.clock_limit)
+        self.interrupts += 1
+        try:
+            src.service(self)
+        finally:
+            del self.irq_s[:], self.irq_rs[:]
+            self.s, self.rs = saved
+            self.masked = False
+            self.reschedule()
+
+    def advance_to(self, t):
+        """Skip the clock forward to t, servicing every interrupt due on the
+        way exactly when it falls due (for waiting words)."""
+        while self.deadline <= t:
+            self.clock = max(self.clock, int(self.deadline))
+            self.housekeep()
+        self.clock = max(self.clock, t)
+
+
+def decode_args(m, p, ip):
+    """The inline arguments of literal primitive p at ip -> (args, next ip)."""
+    if p.decode is not None:
+        return p.decode(m, ip)
+    fetch = m.memory.fetch
+    args = tuple(fetch((ip + 2 * i) & MASK) for i in range(p.args))
+    return args, (ip + 2 * p.args) & MASK

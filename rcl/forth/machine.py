@@ -1,0 +1,205 @@
+"""The Forth machine: memory, dictionary, inner and outer interpreter, and
+the Python face (`evaluate`, `session`, `stack`, `include`).
+
+Boot lays down the system variables, the FORTH and ROOT word lists, a
+header for every registered primitive, then loads the kernel screens
+(rcl/kernel/*.fs: the words easier said in Forth). The booted image is
+kept per process, so a new machine is a copy of bytes, not a re-boot.
+"""
+import os
+
+from rcl.errors import ForthError
+from rcl.forth import inner
+from rcl.forth.compiler import compile_code
+from rcl.forth.dictionary import IMMEDIATE, Dictionary
+from rcl.forth.inner import Inner
+from rcl.forth.memory import (DICT_START, MASK, USER_AREA, WATCH_CODE,
+                              WATCH_HEADER, Memory, signed)
+from rcl.forth.outer import Outer
+from rcl.forth.primitives import CLOCK_HZ, REGISTRY
+from rcl import words as _words  # noqa: F401  (registers every word set)
+
+KERNEL_DIR = os.path.join(os.path.dirname(os.path.dirname(__file__)), "kernel")
+
+# System variables, one cell each from USER_AREA; the order is the layout.
+USER_VARIABLES = ["DP", "BASE", "STATE", "DPL", ">IN", "BLK", "#TIB", "SPAN",
+                  "SCR", "HLD", "WARNING", "CAPS", "RCL-LITERALS", "FENCE",
+                  "LAST", "CURRENT", "#ORDER", "VOC-LINK", "CSP", "TMP",
+                  "CONTEXT"]          # CONTEXT is last: it takes 8 cells
+CLEAR_CODE = bytes(range(256)).translate(bytes(b & ~WATCH_CODE for b in range(256)))
+
+
+def attr_name(var):
+    return "a_" + {"DP": "dp", ">IN": "in", "#TIB": "ntib", "#ORDER": "norder",
+                   "VOC-LINK": "voclink", "RCL-LITERALS": "rcllit"}.get(
+        var, var.lower().replace("-", ""))
+
+
+class Forth(Inner, Outer):
+    """A bare F83 machine. See docs/API.md."""
+
+    _image = None                      # the booted memory, shared per process
+
+    def __init__(self, write=None):
+        self.memory = Memory(self.watched)
+        self.mem = self.memory.mem
+        self.watch = self.memory.watch
+        self.dictionary = Dictionary(self)
+        for i, var in enumerate(USER_VARIABLES):
+            setattr(self, attr_name(var), USER_AREA + 2 * i)
+        self.xt_of = {}
+        self.write = write             # callable(str) for streamed output
+        self.out = []
+        self.blocks = None
+        self.files = {}
+        self.included = set()
+        self.keys = []                 # typed-ahead key codes for KEY
+        self.read_key = None           # callable() -> key code, at the prompt
+        self.read_line = None          # callable() -> line, for ACCEPT
+        self._init_inner()
+        self._init_outer()
+        from rcl.words.blocks import BlockFile
+        self.blocks = BlockFile(self)
+        if Forth._image is None or type(self)._image is None:
+            self._boot()
+            type(self)._image = (bytes(self.mem), bytes(self.watch), dict(self.xt_of),
+                                 self.forth_wid, self.root_wid)
+        else:
+            mem, watch, self.xt_of, self.forth_wid, self.root_wid = type(self)._image
+            self.mem[:] = mem
+            self.watch[:] = watch
+            self.xt_of = dict(self.xt_of)
+
+    # --------------------------------------------------------------- boot
+    def _boot(self):
+        mem = self.memory
+        mem.store(self.a_dp, DICT_START)
+        mem.store(self.a_base, 10)
+        mem.store(self.a_dpl, MASK)
+        mem.store(self.a_warning, MASK)
+        mem.store(self.a_caps, MASK)
+        mem.store(self.a_rcllit, MASK)
+        d = self.dictionary
+        # FORTH: its header lands in the scratch list TMP, then FORTH's own
+        # list takes over that header so FORTH finds itself.
+        xt = d.create("FORTH", inner.N["(DOVOC)"], wid=self.a_tmp)
+        self.forth_wid = d.new_wordlist()
+        mem.store(self.forth_wid, mem.fetch(self.a_tmp))
+        mem.store(self.a_current, self.forth_wid)
+        d.set_order([self.forth_wid])
+        self.xt_of["FORTH"] = xt
+        self.xt_of["ROOT"] = d.create("ROOT", inner.N["(DOVOC)"])
+        self.root_wid = d.new_wordlist()
+        for var in USER_VARIABLES:
+            x = d.create(var, inner.N["(DOCON)"])
+            d.comma(getattr(self, attr_name(var)))
+        for p in REGISTRY[1:]:
+            if p.hidden or p.kind == "runtime":
+                continue
+            wid = self.root_wid if p.wordlist == "ROOT" else self.forth_wid
+            x = d.create(p.name, p.number, wid=wid)
+            self.xt_of[p.name] = x
+            if p.immediate:
+                d.set_flag(d.last, IMMEDIATE)
+        d.set_order([self.forth_wid, self.root_wid])
+        mem.store(self.a_warning, 0)
+        for name in sorted(os.listdir(KERNEL_DIR)):
+            if name.endswith(".fs"):
+                self.include(os.path.join(KERNEL_DIR, name))
+        mem.store(self.a_warning, MASK)
+        mem.store(self.a_fence, d.here)
+        self.invalidate()
+
+    # -------------------------------------------------------------- caches
+    def compile(self, addr):
+        f = compile_code(self, addr)
+        self.fn[addr] = f
+        return f
+
+    def invalidate(self):
+        """Forget all compiled code (memory changed under it)."""
+        self.fn.clear()
+        self.watch[:] = self.watch.translate(CLEAR_CODE)
+
+    def watched(self, addr):
+        """A store hit compiled code or a header."""
+        w = self.watch[addr] | self.watch[(addr + 1) & MASK]
+        if w & WATCH_CODE:
+            self.invalidate()
+        if w & WATCH_HEADER:
+            self.dictionary.header_stored(addr)
+
+    def warning_on(self):
+        return self.memory.fetch(self.a_warning) != 0
+
+    # -------------------------------------------------------------- output
+    def type(self, text):
+        if self.write is not None:
+            self.write(text)
+        else:
+            self.out.append(text)
+
+    def take_output(self):
+        text = "".join(self.out)
+        self.out = []
+        return text
+
+    # ---------------------------------------------------------- Python face
+    @property
+    def stack(self):
+        """The data stack as signed ints, bottom first."""
+        return [signed(v) for v in self.s]
+
+    @property
+    def seconds(self):
+        return self.clock / CLOCK_HZ
+
+    def evaluate(self, text):
+        """Interpret text as typed lines; -> what it printed."""
+        self.sources[0].lines = iter(text.split("\n"))
+        try:
+            while self.refill():
+                self.guarded(self.interpret)
+        finally:
+            self.sources[0].lines = iter(())
+        return self.take_output()
+
+    def session(self, text):
+        """What F83's screen shows for these lines typed at the prompt."""
+        screen = []
+        for line in text.split("\n"):
+            try:
+                out = self.evaluate(line)
+                ok = "" if self.compiling else " ok"
+                screen.append("%s %s%s\n" % (line, out, ok))
+            except ForthError as e:
+                screen.append("%s %s %s \n" % (line, e.output, e.display()))
+        return "".join(screen)
+
+    def include(self, path):
+        """Load a text file, as INCLUDE does."""
+        try:
+            f = open(path, encoding="latin-1")
+        except OSError:
+            raise ForthError(-38, "File not found", path) from None
+        with f:
+            lines = (line.rstrip("\r\n") for line in f)
+            return self.guarded(lambda: self.include_lines(lines, path))
+
+    def guarded(self, action):
+        """Run action; any error aborts the machine and raises ForthError."""
+        try:
+            return action()
+        except ForthError as e:
+            self.fail(e)
+        except KeyboardInterrupt:
+            self.fail(ForthError(-28, "Interrupted"))
+        except IndexError:
+            self.fail(ForthError(-6 if not self.rs else -4))
+        except RecursionError:
+            self.fail(ForthError(-5))
+
+    def fail(self, e):
+        self.abort()
+        e.output = self.take_output()
+        raise e from None

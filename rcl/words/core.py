@@ -1,0 +1,620 @@
+"""Core primitives: literals, stack, arithmetic, comparison, memory.
+
+Each is a CODE word: a few lines of Python on the data stack `m.s` (cells
+kept unsigned, 0..65535) and an inline template the compiler pastes into
+compiled code (see rcl/forth/primitives.py for the template form).
+"""
+from rcl.forth.memory import MASK, signed
+from rcl.forth.primitives import prim, BY_NAME
+
+T = "0xFFFF"                   # a true flag
+
+
+def push2(s, d):
+    """Push a 32-bit value as a double (low cell, then high cell)."""
+    s.append(d & MASK)
+    s.append((d >> 16) & MASK)
+
+
+def pop2(s):
+    """Pop a double -> unsigned 32-bit int."""
+    hi = s.pop()
+    return (hi << 16) | s.pop()
+
+
+# ------------------------------------------------------------------ literals
+def _lit_decode_rd(m, ip):
+    f = m.memory.fetch
+    return (f(ip), f(ip + 2), f(ip + 4)), (ip + 6) & MASK
+
+
+@prim("LIT", "( -- n ) push the inline cell", kind="literal", args=1)
+def lit(m, n):
+    m.s.append(n)
+
+
+@prim("(RLIT)", "( -- n ) push the inline cell, DPL := -1 (RCL literal)",
+      kind="literal", args=1)
+def rlit(m, n):
+    m.s.append(n)
+    m.memory.store(m.a_dpl, MASK)
+
+
+@prim("(RDLIT)", "( -- d ) push the inline double, DPL := its compile-time DPL",
+      kind="literal", args=3)
+def rdlit(m, lo, hi, dpl):
+    m.s.extend((lo, hi))
+    m.memory.store(m.a_dpl, dpl)
+
+
+BY_NAME["LIT"].extra["lit"] = lambda a: ((a[0],), None)
+BY_NAME["(RLIT)"].extra["lit"] = lambda a: ((a[0],), -1)
+BY_NAME["(RDLIT)"].extra["lit"] = lambda a: ((a[0], a[1]), signed(a[2]))
+
+
+# --------------------------------------------------------------------- stack
+@prim("DUP", "( x -- x x )", inline=("a", ("a", "a")))
+def dup(m):
+    m.s.append(m.s[-1])
+
+
+@prim("DROP", "( x -- )", inline=("a", ()))
+def drop(m):
+    m.s.pop()
+
+
+@prim("SWAP", "( a b -- b a )", inline=("a b", ("b", "a")))
+def swap(m):
+    s = m.s
+    s[-1], s[-2] = s[-2], s[-1]
+
+
+@prim("OVER", "( a b -- a b a )", inline=("a b", ("a", "b", "a")))
+def over(m):
+    m.s.append(m.s[-2])
+
+
+@prim("ROT", "( a b c -- b c a )", inline=("a b c", ("b", "c", "a")))
+def rot(m):
+    m.s.append(m.s.pop(-3))
+
+
+@prim("-ROT", "( a b c -- c a b )", inline=("a b c", ("c", "a", "b")))
+def mrot(m):
+    m.s.insert(-2, m.s.pop())
+
+
+@prim("NIP", "( a b -- b )", inline=("a b", ("b",)))
+def nip(m):
+    del m.s[-2]
+
+
+@prim("TUCK", "( a b -- b a b )", inline=("a b", ("b", "a", "b")))
+def tuck(m):
+    m.s.insert(-2, m.s[-1])
+
+
+@prim("?DUP", "( x -- 0 | x x )")
+def qdup(m):
+    if m.s[-1]:
+        m.s.append(m.s[-1])
+
+
+@prim("PICK", "( xu ... x0 u -- xu ... x0 xu ) 0 PICK is DUP")
+def pick(m):
+    s = m.s
+    u = s.pop()
+    if u >= len(s):
+        raise IndexError
+    s.append(s[-1 - u])
+
+
+@prim("ROLL", "( xu ... x0 u -- xu-1 ... x0 xu )")
+def roll(m):
+    s = m.s
+    u = signed(s.pop())
+    if u >= len(s):
+        raise IndexError
+    if u > 0:
+        s.append(s.pop(-1 - u))
+
+
+@prim("DEPTH", "( -- n ) cells on the data stack")
+def depth(m):
+    m.s.append(len(m.s) & MASK)
+
+
+@prim("2DUP", "( a b -- a b a b )", inline=("a b", ("a", "b", "a", "b")))
+def two_dup(m):
+    if len(m.s) < 2:
+        raise IndexError
+    m.s.extend(m.s[-2:])
+
+
+@prim("2DROP", "( a b -- )", inline=("a b", ()))
+def two_drop(m):
+    m.s.pop()
+    m.s.pop()
+
+
+@prim("2SWAP", "( a b c d -- c d a b )", inline=("a b c d", ("c", "d", "a", "b")))
+def two_swap(m):
+    s = m.s
+    if len(s) < 4:
+        raise IndexError
+    s[-4:] = s[-2:] + s[-4:-2]
+
+
+@prim("2OVER", "( a b c d -- a b c d a b )",
+      inline=("a b c d", ("a", "b", "c", "d", "a", "b")))
+def two_over(m):
+    s = m.s
+    if len(s) < 4:
+        raise IndexError
+    s.extend(s[-4:-2])
+
+
+@prim("2ROT", "( a b c d e f -- c d e f a b )")
+def two_rot(m):
+    s = m.s
+    if len(s) < 6:
+        raise IndexError
+    s[-6:] = s[-4:] + s[-6:-4]
+
+
+@prim("3DUP", "( a b c -- a b c a b c )")
+def three_dup(m):
+    if len(m.s) < 3:
+        raise IndexError
+    m.s.extend(m.s[-3:])
+
+
+@prim("4DUP", "( a b c d -- a b c d a b c d )")
+def four_dup(m):
+    if len(m.s) < 4:
+        raise IndexError
+    m.s.extend(m.s[-4:])
+
+
+# -------------------------------------------------------------- return stack
+@prim(">R", "( x -- ) R: ( -- x )", inline=("a", (), "rs.append(a)"))
+def to_r(m):
+    m.rs.append(m.s.pop())
+
+
+@prim("R>", "( -- x ) R: ( x -- )", inline=("", ("rs.pop()",)))
+def r_from(m):
+    m.s.append(m.rs.pop())
+
+
+@prim("R@", "( -- x ) R: ( x -- x )", inline=("", ("rs[-1]",)))
+def r_fetch(m):
+    m.s.append(m.rs[-1])
+
+
+@prim("2>R", "( a b -- ) R: ( -- a b )", inline=("a b", (), "rs.append(a); rs.append(b)"))
+def two_to_r(m):
+    b, a = m.s.pop(), m.s.pop()
+    m.rs.extend((a, b))
+
+
+@prim("2R>", "( -- a b ) R: ( a b -- )")
+def two_r_from(m):
+    b, a = m.rs.pop(), m.rs.pop()
+    m.s.extend((a, b))
+
+
+@prim("2R@", "( -- a b ) R: ( a b -- a b )")
+def two_r_fetch(m):
+    if len(m.rs) < 2:
+        raise IndexError
+    m.s.extend(m.rs[-2:])
+
+
+@prim("I", "( -- n ) the innermost loop index", inline=("", ("(rs[-1] + rs[-2]) & 0xFFFF",)))
+def i_index(m):
+    m.s.append((m.rs[-1] + m.rs[-2]) & MASK)
+
+
+@prim("J", "( -- n ) the next outer loop index", inline=("", ("(rs[-4] + rs[-5]) & 0xFFFF",)))
+def j_index(m):
+    m.s.append((m.rs[-4] + m.rs[-5]) & MASK)
+
+
+@prim("UNLOOP", "( -- ) R: ( loop-sys -- ) drop a DO frame before EXIT",
+      inline=("", (), "del rs[-3:]"))
+def unloop(m):
+    if len(m.rs) < 3:
+        raise IndexError
+    del m.rs[-3:]
+
+
+# ----------------------------------------------------------------- arithmetic
+def binary(name, effect, expr, fn):
+    """Declare a ( n1 n2 -- n3 ) word from one expression over a and b."""
+    prim(name, effect, inline=("a b", (expr,)))(fn)
+
+
+def unary(name, effect, expr, fn):
+    prim(name, effect, inline=("a", (expr,)))(fn)
+
+
+def _bin(op):
+    def f(m):
+        s = m.s
+        b = s.pop()
+        s[-1] = op(s[-1], b) & MASK
+    return f
+
+
+def _un(op):
+    def f(m):
+        m.s[-1] = op(m.s[-1]) & MASK
+    return f
+
+
+def _flag(test):
+    def f(m):
+        s = m.s
+        b = s.pop()
+        s[-1] = MASK if test(s[-1], b) else 0
+    return f
+
+
+def _flag1(test):
+    def f(m):
+        m.s[-1] = MASK if test(m.s[-1]) else 0
+    return f
+
+
+binary("+", "( n1 n2 -- n3 )", "(a + b) & 0xFFFF", _bin(lambda a, b: a + b))
+binary("-", "( n1 n2 -- n3 )", "(a - b) & 0xFFFF", _bin(lambda a, b: a - b))
+binary("*", "( n1 n2 -- n3 ) low 16 bits of the product", "(a * b) & 0xFFFF",
+       _bin(lambda a, b: a * b))
+binary("AND", "( x1 x2 -- x3 )", "a & b", _bin(lambda a, b: a & b))
+binary("OR", "( x1 x2 -- x3 )", "a | b", _bin(lambda a, b: a | b))
+binary("XOR", "( x1 x2 -- x3 )", "a ^ b", _bin(lambda a, b: a ^ b))
+binary("LSHIFT", "( x u -- x' )", "(a << b) & 0xFFFF if b < 16 else 0",
+       _bin(lambda a, b: a << b if b < 16 else 0))
+binary("RSHIFT", "( x u -- x' ) logical", "a >> b", _bin(lambda a, b: a >> b))
+binary("MIN", "( n1 n2 -- n3 ) signed", "a if (a ^ 0x8000) < (b ^ 0x8000) else b",
+       _bin(lambda a, b: a if signed(a) < signed(b) else b))
+binary("MAX", "( n1 n2 -- n3 ) signed", "a if (a ^ 0x8000) > (b ^ 0x8000) else b",
+       _bin(lambda a, b: a if signed(a) > signed(b) else b))
+unary("NEGATE", "( n -- -n )", "-a & 0xFFFF", _un(lambda a: -a))
+unary("NOT", "( x -- x' ) bitwise (Forth-83): 5 NOT is -6", "a ^ 0xFFFF", _un(lambda a: ~a))
+unary("INVERT", "( x -- x' ) bitwise", "a ^ 0xFFFF", _un(lambda a: ~a))
+unary("ABS", "( n -- u )", "(-a & 0xFFFF) if a & 0x8000 else a",
+      _un(lambda a: -a if a & 0x8000 else a))
+unary("1+", "( n -- n+1 )", "(a + 1) & 0xFFFF", _un(lambda a: a + 1))
+unary("1-", "( n -- n-1 )", "(a - 1) & 0xFFFF", _un(lambda a: a - 1))
+unary("2+", "( n -- n+2 )", "(a + 2) & 0xFFFF", _un(lambda a: a + 2))
+unary("2-", "( n -- n-2 )", "(a - 2) & 0xFFFF", _un(lambda a: a - 2))
+unary("2*", "( n -- 2n )", "(a << 1) & 0xFFFF", _un(lambda a: a << 1))
+unary("2/", "( n -- n/2 ) arithmetic shift: floors", "(a >> 1) | (a & 0x8000)",
+      _un(lambda a: (a >> 1) | (a & 0x8000)))
+unary("U2/", "( u -- u/2 ) logical shift", "a >> 1", _un(lambda a: a >> 1))
+unary("CELLS", "( n -- 2n )", "(a << 1) & 0xFFFF", _un(lambda a: a << 1))
+unary("CELL+", "( a -- a+2 )", "(a + 2) & 0xFFFF", _un(lambda a: a + 2))
+unary("CHAR+", "( a -- a+1 )", "(a + 1) & 0xFFFF", _un(lambda a: a + 1))
+unary("CHARS", "( n -- n )", "a", _un(lambda a: a))
+unary("ALIGNED", "( a -- a ) no alignment on the 80188", "a", _un(lambda a: a))
+
+# ----------------------------------------------------------------- comparison
+binary("=", "( x1 x2 -- f )", T + " if a == b else 0", _flag(lambda a, b: a == b))
+binary("<>", "( x1 x2 -- f )", T + " if a != b else 0", _flag(lambda a, b: a != b))
+binary("<", "( n1 n2 -- f ) signed", T + " if (a ^ 0x8000) < (b ^ 0x8000) else 0",
+       _flag(lambda a, b: signed(a) < signed(b)))
+binary(">", "( n1 n2 -- f ) signed", T + " if (a ^ 0x8000) > (b ^ 0x8000) else 0",
+       _flag(lambda a, b: signed(a) > signed(b)))
+binary("U<", "( u1 u2 -- f )", T + " if a < b else 0", _flag(lambda a, b: a < b))
+binary("U>", "( u1 u2 -- f )", T + " if a > b else 0", _flag(lambda a, b: a > b))
+unary("0=", "( x -- f )", T + " if a == 0 else 0", _flag1(lambda a: a == 0))
+unary("0<>", "( x -- f )", T + " if a != 0 else 0", _flag1(lambda a: a != 0))
+unary("0<", "( n -- f )", T + " if a & 0x8000 else 0", _flag1(lambda a: a & 0x8000))
+unary("0>", "( n -- f )", T + " if 0 < a < 0x8000 else 0", _flag1(lambda a: 0 < a < 0x8000))
+
+
+@prim("TRUE", "( -- -1 )", inline=("", ("65535",)))
+def true(m):
+    m.s.append(MASK)
+
+
+@prim("FALSE", "( -- 0 )", inline=("", ("0",)))
+def false(m):
+    m.s.append(0)
+
+
+@prim("BETWEEN", "( n lo hi -- f ) lo <= n <= hi, signed")
+def between(m):
+    s = m.s
+    hi, lo, n = signed(s.pop()), signed(s.pop()), signed(s.pop())
+    s.append(MASK if lo <= n <= hi else 0)
+
+
+@prim("WITHIN", "( n lo hi -- f ) lo <= n < hi, on the circle (standard)")
+def within(m):
+    s = m.s
+    hi, lo, n = s.pop(), s.pop(), s.pop()
+    s.append(MASK if (n - lo) & MASK < (hi - lo) & MASK else 0)
+
+
+# ------------------------------------------------------------------- division
+def um_divmod(ud, u):
+    """F83's UM/MOD: no trap; divide by 0 or overflow gives 0xFFFF 0xFFFF."""
+    if u == 0 or (ud >> 16) >= u:
+        return MASK, MASK
+    q, r = divmod(ud, u)
+    return r, q
+
+
+def m_divmod(lo, hi, n):
+    """F83's M/MOD ( d n -- rem quot ), floored, built on UM/MOD exactly as
+    kernel86.blk builds it (so overflow gives what F83 gives)."""
+    if n == 0:
+        return lo, hi
+    d = (hi << 16) | lo
+    ud = (-d & 0xFFFFFFFF) if hi & 0x8000 else d
+    r, q = um_divmod(ud, -n & MASK if n & 0x8000 else n)
+    if n & 0x8000:
+        r = -r & MASK
+    if (hi ^ n) & 0x8000:
+        q = -q & MASK
+        if r:
+            q = (q - 1) & MASK
+            r = (n - r) & MASK
+    return r, q
+
+
+@prim("UM*", "( u1 u2 -- ud )")
+def um_star(m):
+    s = m.s
+    push2(s, s.pop() * s.pop())
+
+
+@prim("*D", "( n1 n2 -- d ) signed 16x16 -> 32 (F83's name for M*)")
+def star_d(m):
+    s = m.s
+    push2(s, signed(s.pop()) * signed(s.pop()))
+
+
+prim("M*", "( n1 n2 -- d ) signed 16x16 -> 32")(star_d)
+
+
+@prim("UM/MOD", "( ud u -- urem uquot ) no trap: 0 or overflow gives -1 -1")
+def um_slash_mod(m):
+    s = m.s
+    u = s.pop()
+    s.extend(um_divmod(pop2(s), u))
+
+
+@prim("M/MOD", "( d n -- rem quot ) floored; n = 0 leaves d as it was")
+def m_slash_mod(m):
+    s = m.s
+    n, hi, lo = s.pop(), s.pop(), s.pop()
+    s.extend(m_divmod(lo, hi, n))
+
+
+@prim("MU/MOD", "( ud u -- urem udquot )")
+def mu_slash_mod(m):
+    s = m.s
+    u, hi, lo = s.pop(), s.pop(), s.pop()
+    r1, q1 = um_divmod(hi, u)
+    r2, q2 = um_divmod((r1 << 16) | lo, u)
+    s.extend((r2, q2, q1))
+
+
+@prim("/MOD", "( n1 n2 -- rem quot ) floored")
+def slash_mod(m):
+    s = m.s
+    n, a = s.pop(), s.pop()
+    s.extend(m_divmod(a, MASK if a & 0x8000 else 0, n))
+
+
+@prim("/", "( n1 n2 -- quot ) floored; 7 0 / is 0")
+def slash(m):
+    slash_mod(m)
+    del m.s[-2]
+
+
+@prim("MOD", "( n1 n2 -- rem ) floored; 7 0 MOD is 7")
+def mod(m):
+    slash_mod(m)
+    m.s.pop()
+
+
+@prim("*/MOD", "( n1 n2 n3 -- rem quot ) 32-bit intermediate, floored")
+def star_slash_mod(m):
+    s = m.s
+    n3 = s.pop()
+    d = (signed(s.pop()) * signed(s.pop())) & 0xFFFFFFFF
+    s.extend(m_divmod(d & MASK, d >> 16, n3))
+
+
+@prim("*/", "( n1 n2 n3 -- quot )")
+def star_slash(m):
+    star_slash_mod(m)
+    del m.s[-2]
+
+
+@prim("FM/MOD", "( d n -- rem quot ) floored (standard)")
+def fm_slash_mod(m):
+    s = m.s
+    n, d = s.pop(), pop2(s)
+    s.extend(m_divmod(d & MASK, d >> 16, n))
+
+
+@prim("SM/REM", "( d n -- rem quot ) symmetric (standard)")
+def sm_slash_rem(m):
+    s = m.s
+    n, d = signed(s.pop()), pop2(s)
+    d = d - (1 << 32) if d & 0x80000000 else d
+    if n == 0:
+        s.extend((MASK, MASK))
+        return
+    q = abs(d) // abs(n) * (1 if (d < 0) == (n < 0) else -1)
+    s.extend(((d - q * n) & MASK, q & MASK))
+
+
+# --------------------------------------------------------------------- memory
+FETCH = "mem[a] | (mem[(a + 1) & 0xFFFF] << 8)"
+STORE = ("mem[b] = a & 0xFF; mem[(b + 1) & 0xFFFF] = a >> 8\n"
+         "if W[b] or W[(b + 1) & 0xFFFF]: m.watched(b)")
+
+
+@prim("@", "( addr -- x )", inline=("a", (FETCH,)), memory=True)
+def fetch(m):
+    m.s[-1] = m.memory.fetch(m.s[-1])
+
+
+@prim("!", "( x addr -- )", inline=("a b", (), STORE), memory=True)
+def store(m):
+    a = m.s.pop()
+    m.memory.store(a, m.s.pop())
+
+
+@prim("C@", "( addr -- c )", inline=("a", ("mem[a]",)), memory=True)
+def c_fetch(m):
+    m.s[-1] = m.mem[m.s[-1]]
+
+
+@prim("C!", "( c addr -- )", inline=("a b", (), "mem[b] = a & 0xFF\nif W[b]: m.watched(b)"),
+      memory=True)
+def c_store(m):
+    a = m.s.pop()
+    m.memory.cstore(a, m.s.pop())
+
+
+@prim("+!", "( n addr -- ) add n to the cell at addr", memory=True)
+def plus_store(m):
+    a = m.s.pop()
+    m.memory.store(a, (m.memory.fetch(a) + m.s.pop()) & MASK)
+
+
+@prim("2@", "( addr -- d ) high cell at addr")
+def two_fetch(m):
+    m.s.extend(m.memory.dfetch(m.s.pop()))
+
+
+@prim("2!", "( d addr -- ) high cell at addr")
+def two_store(m):
+    s = m.s
+    a, hi, lo = s.pop(), s.pop(), s.pop()
+    m.memory.dstore(a, lo, hi)
+
+
+@prim("ON", "( addr -- ) store -1")
+def on(m):
+    m.memory.store(m.s.pop(), MASK)
+
+
+@prim("OFF", "( addr -- ) store 0")
+def off(m):
+    m.memory.store(m.s.pop(), 0)
+
+
+def _span(m, n):
+    """A byte count from the stack. A count with the top bit set (a negative
+    number) moves nothing: on the 80188 it would wipe the whole segment,
+    dictionary included, which no program means to do."""
+    return 0 if n & 0x8000 else n
+
+
+@prim("FILL", "( addr u c -- )")
+def fill(m):
+    s = m.s
+    c, u, a = s.pop(), s.pop(), s.pop()
+    m.memory.write(a, bytes([c & 0xFF]) * _span(m, u))
+
+
+@prim("ERASE", "( addr u -- )")
+def erase(m):
+    s = m.s
+    u, a = s.pop(), s.pop()
+    m.memory.write(a, bytes(_span(m, u)))
+
+
+@prim("BLANK", "( addr u -- )")
+def blank(m):
+    s = m.s
+    u, a = s.pop(), s.pop()
+    m.memory.write(a, b" " * _span(m, u))
+
+
+@prim("CMOVE", "( from to u -- ) byte by byte, low addresses first")
+def cmove(m):
+    s = m.s
+    u, to, frm = _span(m, s.pop()), s.pop(), s.pop()
+    if frm < to < frm + u:                 # overlapping: propagate like F83
+        for i in range(u):
+            m.memory.cstore((to + i) & MASK, m.mem[(frm + i) & MASK])
+    else:
+        m.memory.write(to, m.memory.read(frm, u))
+
+
+@prim("CMOVE>", "( from to u -- ) byte by byte, high addresses first")
+def cmove_up(m):
+    s = m.s
+    u, to, frm = _span(m, s.pop()), s.pop(), s.pop()
+    if to < frm < to + u:
+        for i in reversed(range(u)):
+            m.memory.cstore((to + i) & MASK, m.mem[(frm + i) & MASK])
+    else:
+        m.memory.write(to, m.memory.read(frm, u))
+
+
+@prim("MOVE", "( from to u -- ) as if through a buffer")
+def move(m):
+    s = m.s
+    u, to, frm = _span(m, s.pop()), s.pop(), s.pop()
+    m.memory.write(to, m.memory.read(frm, u))
+
+
+@prim("COUNT", "( addr -- addr+1 u )", inline=("a", ("(a + 1) & 0xFFFF", "mem[a]")),
+      memory=True)
+def count(m):
+    a = m.s.pop()
+    m.s.extend(((a + 1) & MASK, m.mem[a]))
+
+
+# ----------------------------------------------------------------- dictionary
+@prim("HERE", "( -- addr ) next free byte of the dictionary")
+def here(m):
+    m.s.append(m.dictionary.here)
+
+
+@prim("PAD", "( -- addr ) scratch area above HERE")
+def pad(m):
+    from rcl.forth.memory import PAD_OFFSET
+    m.s.append((m.dictionary.here + PAD_OFFSET) & MASK)
+
+
+@prim("ALLOT", "( n -- ) reserve n bytes")
+def allot(m):
+    m.dictionary.allot(signed(m.s.pop()))
+
+
+@prim(",", "( x -- ) compile a cell")
+def comma(m):
+    m.dictionary.comma(m.s.pop())
+
+
+@prim("C,", "( c -- ) compile a byte")
+def c_comma(m):
+    m.dictionary.ccomma(m.s.pop())
+
+
+@prim("ALIGN", "( -- ) nothing to align on the 80188")
+def align(m):
+    pass
+
+
+@prim("UNUSED", "( -- u ) bytes left in the dictionary")
+def unused(m):
+    from rcl.forth.memory import DICT_LIMIT, PAD_OFFSET
+    m.s.append(max(0, DICT_LIMIT - PAD_OFFSET - m.dictionary.here))
+
+
+@prim("NOOP", "( -- )", inline=("", ()))
+def noop(m):
+    pass

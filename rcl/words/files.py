@@ -1,0 +1,57 @@
+"""Loading text files: INCLUDE INCLUDED REQUIRE REQUIRED.
+
+A name is looked up beside the file being loaded first, then from the
+current directory. Lines may be of any length the input area holds.
+"""
+import os
+
+from rcl.errors import ForthError
+from rcl.forth.primitives import prim
+from rcl.words.compiling import parse_word
+
+
+def resolve(m, name):
+    for src in reversed(m.sources):
+        if src.kind == "file" and src.name:
+            near = os.path.join(os.path.dirname(src.name), name)
+            if os.path.exists(near):
+                return near
+    return name
+
+
+def include_file(m, name):
+    path = resolve(m, name)
+    try:
+        f = open(path, encoding="latin-1")
+    except OSError:
+        raise ForthError(-38, "File not found", name) from None
+    m.included.add(os.path.abspath(path))
+    with f:
+        m.include_lines((line.rstrip("\r\n") for line in f), path)
+
+
+def require_file(m, name):
+    if os.path.abspath(resolve(m, name)) not in m.included:
+        include_file(m, name)
+
+
+@prim("INCLUDE", "( -- ) load the file named next", kind="call")
+def include(m):
+    include_file(m, parse_word(m))
+
+
+@prim("INCLUDED", "( addr u -- ) load the file named by the string", kind="call")
+def included(m):
+    u, a = m.s.pop(), m.s.pop()
+    include_file(m, m.memory.text(a, u))
+
+
+@prim("REQUIRE", "( -- ) load the file named next unless it was loaded", kind="call")
+def require(m):
+    require_file(m, parse_word(m))
+
+
+@prim("REQUIRED", "( addr u -- ) load the named file unless it was loaded", kind="call")
+def required(m):
+    u, a = m.s.pop(), m.s.pop()
+    require_file(m, m.memory.text(a, u))

@@ -1,0 +1,45 @@
+"""System words: BYE, ENVIRONMENT?, PAUSE, and F83's MS in virtual time."""
+from rcl.errors import Bye
+from rcl.forth.memory import MASK
+from rcl.forth.primitives import CLOCK_HZ, prim
+from rcl.words.io import transient
+
+ENVIRONMENT = {
+    "/COUNTED-STRING": [255], "/HOLD": [255], "/PAD": [84],
+    "ADDRESS-UNIT-BITS": [8], "FLOORED": [MASK], "MAX-CHAR": [255],
+    "MAX-D": [0xFFFF, 0x7FFF], "MAX-N": [0x7FFF], "MAX-U": [0xFFFF],
+    "MAX-UD": [0xFFFF, 0xFFFF], "RETURN-STACK-CELLS": [1000],
+    "STACK-CELLS": [1000], "WORDLISTS": [8],
+}
+
+
+@prim("BYE", "( -- ) leave rcl")
+def bye(m):
+    raise Bye()
+
+
+@prim("ENVIRONMENT?", "( addr u -- false | i*x true ) ask about the system")
+def environment_q(m):
+    u, a = m.s.pop(), m.s.pop()
+    value = ENVIRONMENT.get(m.memory.text(a, u).upper())
+    if value is None:
+        m.s.append(0)
+    else:
+        m.s.extend(value)
+        m.s.append(MASK)
+
+
+@prim("PAUSE", "( -- ) let other tasks run: nothing, in a single-task system")
+def pause(m):
+    pass
+
+
+@prim("MS", "( u -- ) wait u milliseconds of virtual time (F83's delay)", kind="call")
+def ms(m):
+    m.advance_to(m.clock + m.s.pop() * (CLOCK_HZ // 1000))
+
+
+@prim("CLOCK@", "( -- d ) the virtual clock in microseconds")
+def clock_fetch(m):
+    us = (m.clock * 1_000_000 // CLOCK_HZ) & 0xFFFFFFFF
+    m.s.extend((us & MASK, us >> 16))

@@ -1,0 +1,182 @@
+"""Programming tools: .S DUMP WORDS SEE FORGET EMPTY and friends.
+
+SEE decompiles threaded code back to Forth: branches become IF ELSE THEN,
+BEGIN UNTIL / AGAIN / WHILE REPEAT, DO LOOP, and literals their numbers.
+"""
+from rcl.errors import ForthError
+from rcl.forth import inner
+from rcl.forth.compiler import decode
+from rcl.forth.dictionary import IMMEDIATE
+from rcl.forth.memory import MASK, PRIM_LIMIT, signed
+from rcl.forth.primitives import REGISTRY, prim
+from rcl.words.compiling import parse_word, tick
+from rcl.words.io import in_base
+
+
+@prim(".S", "( -- ) show the stack, deepest first, unsigned, 7 columns each")
+def dot_s(m):
+    if not m.s:
+        m.type("Empty ")
+    else:
+        m.type("".join("%7s " % in_base(m, v) for v in m.s))
+
+
+@prim("DUMP", "( addr u -- ) bytes in hex and as text, 16 a line")
+def dump(m):
+    u, a = m.s.pop(), m.s.pop()
+    lines = []
+    for row in range(a, a + min(u, 4096), 16):
+        data = m.memory.read(row & MASK, min(16, a + u - row))
+        hexes = " ".join("%02X" % b for b in data)
+        text = "".join(chr(b) if 32 <= b < 127 else "." for b in data)
+        lines.append("\n%04X  %-48s %s" % (row & MASK, hexes, text))
+    m.type("".join(lines) + "\n")
+
+
+@prim("WORDS", "( -- ) the words of the first vocabulary searched, newest first")
+def words(m):
+    d = m.dictionary
+    names = [d.name_of((lfa + 2) & MASK) for lfa in d.lfas(d.order()[0])]
+    m.type("  ".join(n for n in names if n) + "\n")
+
+
+@prim(".NAME", "( xt -- ) print the name of a word")
+def dot_name(m):
+    m.type((m.dictionary.name_of(m.s.pop()) or "?") + " ")
+
+
+@prim(">NAME", "( xt -- addr ) the count byte of its name (F83: name field)")
+def to_name(m):
+    m.s[-1] = (m.s[-1] - 3) & MASK
+
+
+@prim("FORGET", "( -- ) forget the next word and everything defined after it")
+def forget(m):
+    xt = tick(m, parse_word(m))
+    m.dictionary.forget_to(m.dictionary.header_start(xt))
+
+
+@prim("EMPTY", "( -- ) forget everything defined after the base system")
+def empty(m):
+    m.dictionary.forget_to(m.memory.fetch(m.a_fence))
+
+
+@prim("SEE", "( -- ) decompile the next word")
+def see(m):
+    m.type(decompile(m, tick(m, parse_word(m))) + "\n")
+
+
+# ------------------------------------------------------------- decompiler
+def number_text(m, value, dpl=-1):
+    if dpl < 0:
+        return in_base(m, signed(value))
+    d = value - (1 << 32) if value & 0x80000000 else value
+    digits = in_base(m, abs(d)).rjust(dpl + 1, "0")
+    text = digits[:len(digits) - dpl] + "." + digits[len(digits) - dpl:]
+    return "-" + text if d < 0 else text
+
+
+def decompile(m, xt):
+    d = m.dictionary
+    name = d.name_of(xt) or "(noname)"
+    cf = m.memory.fetch(xt)
+    if cf >= PRIM_LIMIT:
+        return "%s is a DOES> word; its DOES> part:\n%s" % (name, body_text(m, cf))
+    p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
+    if p is None:
+        return "%s ?" % name
+    body = (xt + 2) & MASK
+    fetch = m.memory.fetch
+    imm = " IMMEDIATE" if d.flags((xt - 2) & MASK) & IMMEDIATE else ""
+    if cf == inner.DOCOL:
+        return ": %s %s ;%s" % (name, body_text(m, body), imm)
+    kind = {"(DOCON)": "%d CONSTANT %s", "(DOVALUE)": "%d VALUE %s",
+            "(DOVAR)": "CREATE %s ( data at %04X )"}.get(p.name)
+    if p.name in ("(DOCON)", "(DOVALUE)"):
+        return kind % (signed(fetch(body)), name)
+    if p.name == "(DOVAR)":
+        return kind % (name, body)
+    if p.name == "(DODEFER)":
+        return "DEFER %s  IS %s" % (name, d.name_of(fetch(body)) or "?")
+    if p.name == "(DOVOC)":
+        return "VOCABULARY %s" % name
+    return "CODE %s %s (a Python primitive)%s" % (name, p.effect, imm)
+
+
+def body_text(m, start):
+    """Structured Forth for the threaded code at start, up to its final EXIT."""
+    d = m.dictionary
+    out, thens, begins, whiles = [], {}, set(), set()
+    code, ip, last_fwd = [], start, start
+    while len(code) < 2000:            # first pass: decode up to the last EXIT
+        ins = decode(m, ip)
+        code.append(ins)
+        if ins.target is not None:
+            if ins.target > ins.addr:
+                last_fwd = max(last_fwd, ins.target)
+            elif ins.op in ("BRANCH", "?BRANCH"):
+                begins.add(ins.target)
+        if ins.op in ("EXIT", "(DOES>)") and ins.addr >= last_fwd:
+            if ins.op == "EXIT":
+                break
+        ip = ins.next
+    after = {ins.addr: ins for ins in code}
+    for ins in code:                   # WHILE: ?BRANCH forward past a backward BRANCH
+        if ins.op == "?BRANCH" and ins.target > ins.addr:
+            prev = [i for i in code if i.next == ins.target]
+            if prev and prev[0].op == "BRANCH" and prev[0].target <= ins.addr:
+                whiles.add(ins.addr)
+    for ins in code:
+        if ins.addr in thens:
+            out.extend(["THEN"] * thens.pop(ins.addr))
+        if ins.addr in begins:
+            out.append("BEGIN")
+        op = ins.op
+        if op == "?BRANCH":
+            if ins.target <= ins.addr:
+                out.append("UNTIL")
+            elif ins.addr in whiles:
+                out.append("WHILE")
+            else:
+                out.append("IF")
+                thens[ins.target] = thens.get(ins.target, 0) + 1
+        elif op == "BRANCH":
+            if ins.target <= ins.addr:
+                out.append("REPEAT" if any(w for w in whiles
+                                           if after[w].target == ins.next) else "AGAIN")
+            elif thens.get(ins.next):
+                thens[ins.next] -= 1
+                out.append("ELSE")
+                thens[ins.target] = thens.get(ins.target, 0) + 1
+            else:
+                out.append("AHEAD")
+                thens[ins.target] = thens.get(ins.target, 0) + 1
+        elif op in ("(DO)", "(?DO)", "(LOOP)", "(+LOOP)", "(LEAVE)", "(?LEAVE)"):
+            out.append(op[1:-1])
+        elif op == "(DOES>)":
+            out.append("DOES>")
+        elif op == "EXIT":
+            if ins is not code[-1]:
+                out.append("EXIT")
+        elif op == "literal":
+            out.append(literal_text(m, ins))
+        else:
+            out.append(d.name_of(ins.xt) or "[%04X]" % ins.xt)
+    if code and code[-1].next in thens:
+        out.extend(["THEN"] * thens.pop(code[-1].next))
+    return " ".join(out)
+
+
+def literal_text(m, ins):
+    name, args = ins.prim.name, ins.args
+    if name in ("LIT", "(RLIT)"):
+        return number_text(m, args[0])
+    if name == "(RDLIT)":
+        return number_text(m, args[0] | (args[1] << 16), signed(args[2]))
+    if name == "COMPILE":
+        return "COMPILE " + (m.dictionary.name_of(args[0]) or "?")
+    if len(args) == 2 and name.startswith("("):
+        text = m.memory.text(args[0], args[1])
+        return '%s %s"' % ({'(.")': '."', '(S")': 'S"', '(C")': 'C"',
+                             '(ABORT")': 'ABORT"', '(")': '"'}.get(name, name), text)
+    return "%s %s" % (name, " ".join(str(a) for a in args))
