@@ -71,6 +71,16 @@ def compiling(m):
 
 
 # ----------------------------------------------------------------- colon
+def compile_only(name, body):
+    """body, refusing to run outside a definition (F83 would compile junk)."""
+    def f(m):
+        if not compiling(m):
+            raise ForthError(-14, "Compile only", name)
+        body(m)
+    f.__doc__ = body.__doc__
+    return f
+
+
 @prim(":", "( -- ) start a colon definition; the name stays hidden until ;")
 def colon(m):
     xt = m.dictionary.create(parse_word(m), inner.DOCOL)
@@ -134,16 +144,6 @@ def right_bracket(m):
 
 
 # -------------------------------------------------------- control structures
-def compile_only(name, body):
-    """body, refusing to run outside a definition (F83 would compile junk)."""
-    def f(m):
-        if not compiling(m):
-            raise ForthError(-14, "Compile only", name)
-        body(m)
-    f.__doc__ = body.__doc__
-    return f
-
-
 def branch_word(name, effect, body):
     prim(name, effect, immediate=True)(compile_only(name, body))
 
