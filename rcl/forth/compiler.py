@@ -43,6 +43,9 @@ from rcl.forth.primitives import DEFAULT_COST, REGISTRY
 from rcl.forth import inner
 from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args, rt_push
 
+DOCOL_N = N["(DOCOL)"]
+HELPERS = {}                 # functions inline templates may call, by name
+
 MAX_INSTRUCTIONS = 4000
 PURE_FORBIDDEN = ("mem", "m.", "rs", "W[", "s.")
 
@@ -160,6 +163,8 @@ class Gen:
 
     def take(self, n, ind):
         """n input atoms, deepest first, loading from the real stack."""
+        if n == 0:
+            return []
         have = self.vs[-n:] if n <= len(self.vs) else list(self.vs)
         del self.vs[len(self.vs) - len(have):]
         loaded = []
@@ -203,7 +208,7 @@ class Gen:
                 continue
             text = subst(o, env)
             if pure and not any(f in o for f in PURE_FORBIDDEN):
-                self.vs.append(str(eval(text)))
+                self.vs.append(str(eval(text, dict(HELPERS))))
                 continue
             t = self.temp()
             self.emit("%s = %s" % (t, text), ind)
@@ -341,9 +346,15 @@ class Gen:
         elif op == "EXECUTE":
             (x,) = self.take(1, ind)
             self.flush(ind)
-            self.emit("r = m.call(%s, %d)" % (x, ins.next), ind)
+            self.dynamic_call(x, ins.next, ind)
             self.call_tail(ins, k, ind)
-        elif op in ("defer", "bad") or (op == "call" and ins.prim.kind == "runtime"):
+        elif op == "defer":
+            self.flush(ind)
+            body = ins.args[0]
+            self.emit("_x = mem[%d] | (mem[%d] << 8)" % (body, (body + 1) & MASK), ind)
+            self.dynamic_call("_x", ins.next, ind)
+            self.call_tail(ins, k, ind)
+        elif op == "bad" or (op == "call" and ins.prim.kind == "runtime"):
             self.flush(ind)
             self.emit("r = m.call(%d, %d)" % (ins.xt, ins.next), ind)
             self.call_tail(ins, k, ind)
@@ -351,6 +362,17 @@ class Gen:
             self.flush(ind)
             self.emit("%s(m)" % self.const(ins.prim.fn, "P"), ind)
             self.goto_next(k, ins.next, ind)
+
+    def dynamic_call(self, x, ret, ind):
+        """Call the xt in x: straight into a colon word's compiled code when
+        no interrupt is due, else through m.call (which does it all)."""
+        self.emit("_a = (%s + 2) & 0xFFFF" % x, ind)
+        self.emit("if mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0 and m.clock < m.deadline:"
+                  % (x, DOCOL_N, x), ind)
+        self.emit("m.clock += %d; rs.append(%d)" % (DEFAULT_COST, ret), ind + 1)
+        self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind + 1)
+        self.emit("r = (FN(_a) or CP(_a))(m)", ind + 1)
+        self.emit("else: r = m.call(%s, %d)" % (x, ret), ind)
 
     # ---------------------------------------------------------- assembly
     def block(self, k, ops, term, ind):
@@ -379,7 +401,7 @@ class Gen:
         starts = sorted(a for a in targets if a in code)
         self.index = {a: i for i, a in enumerate(starts)}
         self.emit("def f(m):", 0)
-        self.emit("s = m.s; rs = m.rs; mem = m.mem; W = m.watch; d0 = len(rs)", 1)
+        self.emit("PROLOGUE", 1)
         self.emit("b = 0", 1)
         self.emit("while True:", 1)
         for k, a in enumerate(starts):
@@ -397,6 +419,12 @@ class Gen:
             self.emit("if b <= %d:   # %04X" % (k, a), 2)
             self.block(k, ops, term, 3)
         self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2)
+        body = "\n".join(self.lines[2:])
+        locals_ = ["%s = %s" % (n, v) for n, v in (("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"),
+                                                  ("W", "m.watch"), ("d0", "len(rs)"))
+                   if n + "." in body or n + "[" in body or n + ")" in body or n + "," in body
+                   or (n == "rs" and "d0" in body)]
+        self.lines[1] = "    " + ("; ".join(locals_) or "pass")
         marks = set()
         for ins in code.values():
             marks.update(range(ins.addr, ins.next if ins.next > ins.addr else ins.addr + 2))
@@ -428,6 +456,7 @@ def compile_code(m, entry):
             return m.run_from(entry, len(m.rs))
         return f
     env = dict(gen.consts)
+    env.update(HELPERS)
     env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
     exec(src, env)
     for a in marks:

@@ -5,6 +5,7 @@ kept unsigned, 0..65535) and an inline template the compiler pastes into
 compiled code (see rcl/forth/primitives.py for the template form).
 """
 from rcl.forth.memory import MASK, signed
+from rcl.forth.compiler import HELPERS
 from rcl.forth.primitives import prim, BY_NAME
 
 T = "0xFFFF"                   # a true flag
@@ -404,6 +405,23 @@ def mu_slash_mod(m):
     s.extend((r2, q2, q1))
 
 
+def fdiv(a, b):
+    """Floored quotient of two cells, F83's way (inline helper)."""
+    if b and not (a | b) & 0x8000:
+        return a // b
+    return m_divmod(a, MASK if a & 0x8000 else 0, b)[1]
+
+
+def fmod(a, b):
+    """Floored remainder of two cells, F83's way (inline helper)."""
+    if b and not (a | b) & 0x8000:
+        return a % b
+    return m_divmod(a, MASK if a & 0x8000 else 0, b)[0]
+
+
+HELPERS.update(FDIV=fdiv, FMOD=fmod)
+
+
 @prim("/MOD", "( n1 n2 -- rem quot ) floored")
 def slash_mod(m):
     s = m.s
@@ -411,13 +429,13 @@ def slash_mod(m):
     s.extend(m_divmod(a, MASK if a & 0x8000 else 0, n))
 
 
-@prim("/", "( n1 n2 -- quot ) floored; 7 0 / is 0")
+@prim("/", "( n1 n2 -- quot ) floored; 7 0 / is 0", inline=("a b", ("FDIV(a, b)",)))
 def slash(m):
     slash_mod(m)
     del m.s[-2]
 
 
-@prim("MOD", "( n1 n2 -- rem ) floored; 7 0 MOD is 7")
+@prim("MOD", "( n1 n2 -- rem ) floored; 7 0 MOD is 7", inline=("a b", ("FMOD(a, b)",)))
 def mod(m):
     slash_mod(m)
     m.s.pop()
