@@ -61,6 +61,14 @@ class ForthError(RclError):
             return "%s  %s" % (self.word, self.message)
         return self.message
 
+    def screen(self):
+        """Exactly what F83 prints for this error: `FOO  ? ` for an unknown
+        word (the token, then the abort's blank, ` ?` and a blank), else
+        a blank, the message, a blank."""
+        if self.word is not None:
+            return "%s  %s " % (self.word, self.message)
+        return " %s " % self.message
+
     def __str__(self):
         where = "%s:%s: " % (self.file, self.line) if self.file else ""
         return where + self.display()

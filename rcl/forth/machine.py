@@ -173,7 +173,7 @@ class Forth(Inner, Outer):
                 ok = "" if self.compiling else " ok"
                 screen.append("%s %s%s\n" % (line, out, ok))
             except ForthError as e:
-                screen.append("%s %s %s \n" % (line, e.output, e.display()))
+                screen.append("%s %s%s\n" % (line, e.output, e.screen()))
         return "".join(screen)
 
     def include(self, path):
@@ -194,8 +194,8 @@ class Forth(Inner, Outer):
             self.fail(e)
         except KeyboardInterrupt:
             self.fail(ForthError(-28, "Interrupted"))
-        except IndexError:
-            self.fail(ForthError(-6 if not self.rs else -4))
+        except IndexError:            # a pop from an empty stack
+            self.fail(ForthError(-4))
         except RecursionError:
             self.fail(ForthError(-5))
 

@@ -31,7 +31,8 @@ class Source:
     addr: int = 0
     length: int = 0
     buf: int = 0              # start of this source's line buffer
-    lines: object = None      # iterator of further lines (terminal, file)
+    lines: object = None      # iterator of further lines (terminal)
+    text: list = None         # every line of a file (so RESTORE-INPUT can go back)
     name: str = None          # file name
     line: int = 0             # current line number in the file
     source_id: int = 0        # 0 terminal, -1 evaluate, >0 file
@@ -78,9 +79,14 @@ class Outer:
         src = self.src
         if src.kind not in ("terminal", "file") or self.memory.fetch(self.a_blk):
             return False
-        text = next(src.lines, None)
-        if text is None:
-            return False
+        if src.text is not None:
+            if src.line >= len(src.text):
+                return False
+            text = src.text[src.line]
+        else:
+            text = next(src.lines, None)
+            if text is None:
+                return False
         src.line += 1
         self.set_line(src, text)
         return True
@@ -213,7 +219,7 @@ class Outer:
     def include_lines(self, lines, name):
         """Interpret an iterator of lines as a file source named name."""
         self.file_ids += 1
-        src = Source("file", buf=self.buffer_top(), lines=iter(lines), name=name,
+        src = Source("file", buf=self.buffer_top(), text=list(lines), name=name,
                      source_id=self.file_ids)
         self.push_source(src)
         try:

@@ -9,7 +9,7 @@ Block 0 can never be loaded (BLK = 0 means the terminal).
 import os
 
 from rcl.errors import ForthError
-from rcl.forth.memory import BLOCK_BUFFERS, MASK
+from rcl.forth.memory import BLOCK_BUFFERS, MASK, signed
 from rcl.forth.outer import Source
 from rcl.forth.primitives import prim
 from rcl.words.compiling import parse_word
@@ -156,6 +156,15 @@ def load(m):
 def thru(m):
     last, first = m.s.pop(), m.s.pop()
     for n in range(first, last + 1):
+        bf(m).load(n)
+
+
+@prim("+THRU", "( lo hi -- ) load blocks relative to the one being loaded",
+      kind="call")
+def plus_thru(m):
+    hi, lo = m.s.pop(), m.s.pop()
+    base = m.memory.fetch(m.a_blk)
+    for n in range(base + signed(lo), base + signed(hi) + 1):
         bf(m).load(n)
 
 

@@ -219,9 +219,9 @@ def paren_c_quote(m, a, n):
     m.s.append((a - 1) & MASK)
 
 
-@string_prim("(\")", "( -- addr ) the inline counted string (F83's \")")
+@string_prim("(\")", "( -- addr u ) the inline string (F83's \": R> COUNT ...)")
 def paren_quote(m, a, n):
-    m.s.append((a - 1) & MASK)
+    m.s.extend((a, n))
 
 
 @string_prim("(ABORT\")", "( f -- ) abort with the inline message if f")
@@ -283,13 +283,13 @@ def c_quote(m):
         m.s.append(transient(m, text)[0] - 1)
 
 
-@prim("\"", "( -- addr ) F83's counted string literal", immediate=True)
+@prim("\"", "( -- addr u ) F83's string literal", immediate=True)
 def quote(m):
     text = quoted(m)
     if state(m):
         lay_string(m, '(")', text)
     else:
-        m.s.append(transient(m, text)[0] - 1)
+        m.s.extend(transient(m, text))
 
 
 ESCAPES = {"a": "\a", "b": "\b", "e": "\x1b", "f": "\f", "l": "\n", "n": "\n",

@@ -32,7 +32,7 @@ def backslash(m):
 def backslash_s(m):
     m.memory.store(m.a_in, m.source()[1])
     if m.src.kind == "file" and not m.memory.fetch(m.a_blk):
-        m.src.lines = iter(())
+        m.src.text = []
 
 
 @prim("WORD", "( c -- addr ) parse a c-delimited word to a counted string at HERE")
@@ -87,6 +87,20 @@ def tib(m):
     m.s.append(m.sources[0].buf)
 
 
+@prim("QUERY", "( -- ) read a line from the terminal into TIB", kind="call")
+def query(m):
+    from rcl.words.io import read_line
+    m.sources[0].lines = iter([read_line(m)])
+    while len(m.sources) > 1:
+        m.pop_source()
+    m.refill()
+
+
+@prim("INTERPRET", "( -- ) interpret the rest of the current input", kind="call")
+def interpret(m):
+    m.interpret()
+
+
 @prim("REFILL", "( -- f ) the next line of the input source", kind="call")
 def refill(m):
     m.s.append(MASK if m.refill() else 0)
@@ -102,9 +116,13 @@ def save_input(m):
 def restore_input(m):
     n = m.s.pop()
     vals = [m.s.pop() for _ in range(n)][::-1]
-    if n != 2 or vals[1] != m.src.line & MASK:
+    src = m.src
+    if n != 2 or (vals[1] != src.line & MASK and src.text is None):
         m.s.append(MASK)
         return
+    if vals[1] != src.line & MASK:           # a file: go back to that line
+        src.line = vals[1] - 1
+        m.refill()
     m.memory.store(m.a_in, vals[0])
     m.s.append(0)
 

@@ -50,6 +50,21 @@ def to_name(m):
     m.s[-1] = (m.s[-1] - 3) & MASK
 
 
+@prim("NAME>", "( nfa -- xt ) from the count byte to the code field")
+def name_from(m):
+    m.s[-1] = (m.s[-1] + 3) & MASK
+
+
+@prim(">LINK", "( xt -- lfa ) the link field")
+def to_link(m):
+    m.s[-1] = (m.s[-1] - 2) & MASK
+
+
+@prim("L>NAME", "( lfa -- nfa ) from the link field to the count byte")
+def link_to_name(m):
+    m.s[-1] = (m.s[-1] - 1) & MASK
+
+
 @prim("FORGET", "( -- ) forget the next word and everything defined after it")
 def forget(m):
     xt = tick(m, parse_word(m))
