@@ -31,7 +31,7 @@ MESSAGES = {
     -258: "Not enough Parameters",
     -259: "Step limit",
     -260: "Invalid execution token",
-    -261: "Dictionary full",
+    -8: "Dictionary full",
     -262: "Line too long",
     -263: "No CODE for",
 }

@@ -92,27 +92,28 @@ def decode(m, ip):
     nxt = (ip + 2) & MASK
     cf = fetch(xt)
     if cf >= PRIM_LIMIT:
-        return Instr(ip, xt, "does", (cf,), nxt, DEFAULT_COST)
+        return Instr(ip, xt, "does", (cf,), nxt, m.cost[N["(DOCOL)"]])
     p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
     if p is None:
         return Instr(ip, xt, "bad", (), nxt, DEFAULT_COST)
+    cost = m.cost[cf]
     name = CONTROL.get(cf)
     if name is not None:
         target = None
         if name in ("BRANCH", "?BRANCH", "(DO)", "(?DO)", "(LOOP)", "(+LOOP)"):
             target = fetch(nxt)
             nxt = (nxt + 2) & MASK
-        return Instr(ip, xt, name, (), nxt, p.cost, p, target)
+        return Instr(ip, xt, name, (), nxt, cost, p, target)
     if p.kind == "literal":
         args, nxt = decode_args(m, p, nxt)
-        return Instr(ip, xt, "literal", args, nxt, p.cost, p)
+        return Instr(ip, xt, "literal", args, nxt, cost, p)
     if p.kind == "runtime":
         body = (xt + 2) & MASK
         kind = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
                 N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
                 N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}.get(cf, "call")
-        return Instr(ip, xt, kind, (body,), nxt, p.cost, p)
-    return Instr(ip, xt, "call" if p.kind == "call" else "simple", (), nxt, p.cost, p)
+        return Instr(ip, xt, kind, (body,), nxt, cost, p)
+    return Instr(ip, xt, "call" if p.kind == "call" else "simple", (), nxt, cost, p)
 
 
 def walk(m, entry):
@@ -369,7 +370,7 @@ class Gen:
         self.emit("_a = (%s + 2) & 0xFFFF" % x, ind)
         self.emit("if mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0 and m.clock < m.deadline:"
                   % (x, DOCOL_N, x), ind)
-        self.emit("m.clock += %d; rs.append(%d)" % (DEFAULT_COST, ret), ind + 1)
+        self.emit("m.clock += %d; rs.append(%d)" % (self.m.cost[DOCOL_N], ret), ind + 1)
         self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind + 1)
         self.emit("r = (FN(_a) or CP(_a))(m)", ind + 1)
         self.emit("else: r = m.call(%s, %d)" % (x, ret), ind)

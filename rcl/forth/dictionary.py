@@ -51,8 +51,10 @@ class Dictionary:
 
     def allot(self, n):
         h = self.here + n
-        if h > DICT_LIMIT - PAD_OFFSET or h < 0:
-            raise ForthError(-261, "Dictionary full")
+        if h > DICT_LIMIT - PAD_OFFSET:
+            raise ForthError(-8, "Dictionary full")
+        if h < self.memory.fetch(self.m.a_fence):
+            raise ForthError(-15, "Below fence")
         self.here = h
 
     def comma(self, v):

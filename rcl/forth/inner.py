@@ -137,6 +137,8 @@ class Inner:
         self.irq = None          # interrupt source: .due and .service(machine)
         self.fn = {}             # code address -> compiled function
         self.interrupts = 0
+        self.cost = [p.cost if p else 0 for p in REGISTRY]   # clock units per primitive
+        self.compiled = True     # False: run everything through run_from
 
     # ---------------------------------------------------------- calling
     def enter(self, addr, ret):
@@ -148,6 +150,12 @@ class Inner:
         f = self.fn.get(addr) or self.compile(addr)
         return f(self)
 
+    def set_cost(self, name, microseconds):
+        """Make primitive `name` cost this many microseconds of virtual time."""
+        from rcl.forth.primitives import BY_NAME, CLOCK_HZ
+        self.cost[BY_NAME[name].number] = round(microseconds * CLOCK_HZ / 1_000_000)
+        self.invalidate()
+
     def call(self, xt, ret):
         """Run the word xt as if called from threaded code; -> next ip."""
         mem = self.mem
@@ -155,13 +163,13 @@ class Inner:
         if self.clock >= self.deadline:
             self.housekeep()
         if cf >= PRIM_LIMIT:                       # a DOES> child
-            self.clock += DEFAULT_COST
+            self.clock += self.cost[N["(DOCOL)"]]
             self.s.append((xt + 2) & MASK)
             return self.enter(cf, ret)
         p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
         if p is None:
             raise ForthError(-260)
-        self.clock += p.cost
+        self.clock += self.cost[cf]
         if p.kind == "runtime":
             return p.fn(self, xt, ret)
         if p.kind in ("simple", "call"):
@@ -199,7 +207,7 @@ class Inner:
                 if p is not None and p.kind == "literal":
                     if self.clock >= self.deadline:
                         self.housekeep()
-                    self.clock += p.cost
+                    self.clock += self.cost[cf]
                     args, ip = decode_args(self, p, ip)
                     p.fn(self, *args)
                 else:
@@ -207,7 +215,7 @@ class Inner:
                 continue
             if self.clock >= self.deadline:
                 self.housekeep()
-            self.clock += REGISTRY[cf].cost
+            self.clock += self.cost[cf]
             if name == "EXIT":
                 ip = rs.pop()
                 if base is not None and len(rs) < base:
@@ -263,6 +271,18 @@ class Inner:
                 and self.clock >= src.due:
             self.interrupt(src)
         self.reschedule()
+
+    def attach(self, source):
+        """Plug in an interrupt source: an object with `due` (the clock value
+        at which it next wants service, or None) and `service(machine)`,
+        which runs with interrupts masked on the handler's own stacks and
+        must move `due` on. A board is such a source."""
+        self.irq = source
+        self.reschedule()
+
+    def run_handler(self, xt):
+        """From a source's service(): run the Forth word xt to completion."""
+        self.execute(xt)
 
     def reschedule(self):
         """Recompute the deadline after an interrupt source changed."""

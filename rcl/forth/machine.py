@@ -8,7 +8,9 @@ kept per process, so a new machine is a copy of bytes, not a re-boot.
 """
 import os
 
-from rcl.errors import ForthError
+import sys
+
+from rcl.errors import Bye, ForthError
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
@@ -18,6 +20,10 @@ from rcl.forth.memory import (DICT_START, MASK, USER_AREA, WATCH_CODE,
 from rcl.forth.outer import Outer
 from rcl.forth.primitives import CLOCK_HZ, REGISTRY
 from rcl import words as _words  # noqa: F401  (registers every word set)
+
+# Forth calls nest as Python calls in compiled code: leave room for the
+# return stack's 1000 cells (ForthError -5 beyond) before Python's own limit.
+sys.setrecursionlimit(max(sys.getrecursionlimit(), 8000))
 
 KERNEL_DIR = os.path.join(os.path.dirname(os.path.dirname(__file__)), "kernel")
 
@@ -112,6 +118,8 @@ class Forth(Inner, Outer):
 
     # -------------------------------------------------------------- caches
     def compile(self, addr):
+        if not self.compiled:
+            return lambda m: m.run_from(addr, len(m.rs))
         f = compile_code(self, addr)
         self.fn[addr] = f
         return f
@@ -191,13 +199,20 @@ class Forth(Inner, Outer):
         try:
             return action()
         except ForthError as e:
+            if e.code == -56:              # QUIT: back to the prompt, stack kept
+                self.quit()
+                return None
             self.fail(e)
+        except Bye:
+            raise
         except KeyboardInterrupt:
             self.fail(ForthError(-28, "Interrupted"))
         except IndexError:            # a pop from an empty stack
             self.fail(ForthError(-4))
         except RecursionError:
             self.fail(ForthError(-5))
+        except Exception as exc:           # a bug of ours: still no traceback
+            self.fail(ForthError(-4095, "Internal error: %s: %s" % (type(exc).__name__, exc)))
 
     def fail(self, e):
         self.abort()

@@ -233,6 +233,13 @@ class Outer:
             if self.sources and self.sources[-1] is src:
                 self.pop_source()
 
+    def quit(self):
+        """QUIT: empty the return stack, interpret from the terminal."""
+        del self.rs[:]
+        stack = list(self.s)
+        self.abort()
+        self.s.extend(stack)
+
     def abort(self):
         """F83's ABORT: empty both stacks, stop compiling, drop all loads."""
         del self.s[:]

@@ -108,6 +108,7 @@ def semicolon(m):
     compile_name(m, "EXIT")
     if getattr(m, "colon_lfa", 0):
         m.dictionary.set_flag(m.colon_lfa, HIDDEN, False)
+    m.colon_lfa = 0
     m.memory.store(m.a_state, 0)
 
 
@@ -115,17 +116,19 @@ prim(";", "( -- ) end the definition; ` Stack Changed ` if the stack moved",
      immediate=True)(compile_only(";", semicolon))
 
 
-@prim("RECURSIVE", "( -- ) make the definition being compiled visible now",
-      immediate=True)
 def recursive(m):
     if getattr(m, "colon_lfa", 0):
         m.dictionary.set_flag(m.colon_lfa, HIDDEN, False)
 
 
-@prim("RECURSE", "( -- ) compile a call of the definition being compiled",
-      immediate=True)
 def recurse(m):
     m.dictionary.comma(m.colon_xt)
+
+
+prim("RECURSIVE", "( -- ) make the definition being compiled visible now",
+     immediate=True)(compile_only("RECURSIVE", recursive))
+prim("RECURSE", "( -- ) compile a call of the definition being compiled",
+     immediate=True)(compile_only("RECURSE", recurse))
 
 
 @prim("IMMEDIATE", "( -- ) mark the newest word immediate")
@@ -449,12 +452,18 @@ def _store_into(m, xt, two=False):
 @prim("TO", "( x -- ) set the VALUE that follows", immediate=True)
 def to(m):
     xt = tick(m, parse_word(m))
-    _store_into(m, xt, m.memory.fetch(xt) == inner.N["(DO2VALUE)"])
+    cf = m.memory.fetch(xt)
+    if cf not in (inner.N["(DOVALUE)"], inner.N["(DO2VALUE)"]):
+        raise ForthError(-32, "Not a VALUE", m.dictionary.name_of(xt))
+    _store_into(m, xt, cf == inner.N["(DO2VALUE)"])
 
 
 @prim("IS", "( xt -- ) set the DEFER that follows", immediate=True)
 def is_(m):
-    _store_into(m, tick(m, parse_word(m)))
+    xt = tick(m, parse_word(m))
+    if m.memory.fetch(xt) != inner.N["(DODEFER)"]:
+        raise ForthError(-32, "Not a DEFER", m.dictionary.name_of(xt))
+    _store_into(m, xt)
 
 
 @prim("DEFER!", "( xt2 xt1 -- ) set DEFER xt1 to run xt2")
@@ -479,10 +488,8 @@ def action_of(m):
         m.s.append(m.memory.fetch((xt + 2) & MASK))
 
 
-@prim("DOES>", "( -- ) the newest word will run the code that follows",
-      immediate=True)
-def does(m):
-    compile_name(m, "(DOES>)")
+prim("DOES>", "( -- ) the newest word will run the code that follows",
+     immediate=True)(compile_only("DOES>", lambda m: compile_name(m, "(DOES>)")))
 
 
 @prim("MARKER", "( -- ) a word that forgets itself and all after it")

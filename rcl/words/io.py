@@ -311,7 +311,9 @@ def escaped(m):
             e = chr(m.mem[(addr + i) & MASK])
             i += 1
             if e == "x":
-                out.append(chr(int(m.memory.text((addr + i) & MASK, 2), 16)))
+                hexes = m.memory.text((addr + i) & MASK, 2)
+                out.append(chr(int(hexes, 16)) if all(c in "0123456789abcdefABCDEF"
+                                                      for c in hexes) else "?")
                 i += 2
             else:
                 out.append(ESCAPES.get(e, e))
