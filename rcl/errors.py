@@ -74,5 +74,18 @@ class ForthError(RclError):
         return where + self.display()
 
 
+def as_forth_error(exc):
+    """Any failure inside Forth code, as the Forth error it amounts to."""
+    if isinstance(exc, ForthError):
+        return exc
+    if isinstance(exc, IndexError):         # a pop from an empty stack
+        return ForthError(-4)
+    if isinstance(exc, RecursionError):
+        return ForthError(-5)
+    if isinstance(exc, KeyboardInterrupt):
+        return ForthError(-28, "Interrupted")
+    return ForthError(-4095, "Internal error: %s: %s" % (type(exc).__name__, exc))
+
+
 class Bye(RclError):
     """BYE was executed: the caller should leave."""

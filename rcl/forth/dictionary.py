@@ -55,6 +55,10 @@ class Dictionary:
             raise ForthError(-8, "Dictionary full")
         if h < self.memory.fetch(self.m.a_fence):
             raise ForthError(-15, "Below fence")
+        if n < 0 and h < self.last + 4:
+            # Giving back data space may not eat the newest header: the next
+            # definition would overwrite its link and cut the dictionary.
+            raise ForthError(-9, "ALLOT into a header")
         self.here = h
 
     def comma(self, v):
@@ -172,9 +176,18 @@ class Dictionary:
         n = min(fetch(self.m.a_norder), ORDER_MAX)
         return [fetch(a + 2 * i) for i in range(n)]
 
+    def check_wid(self, wid):
+        """A word list id must name a word list: anything else would have the
+        next definition store its link at a random address."""
+        if wid not in self.wordlists():
+            raise ForthError(-32, "Not a word list")
+        return wid
+
     def set_order(self, wids):
         if len(wids) > ORDER_MAX:
             raise ForthError(-49, "Search order overflow")
+        for w in wids:
+            self.check_wid(w)
         store, a = self.memory.store, self.m.a_context
         for i, w in enumerate(wids):
             store(a + 2 * i, w)

@@ -10,7 +10,7 @@ import os
 
 import sys
 
-from rcl.errors import Bye, ForthError
+from rcl.errors import Bye, ForthError, as_forth_error
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
@@ -59,9 +59,11 @@ class Forth(Inner, Outer):
         self.blocks = None
         self.files = {}
         self.included = set()
+        self.step_limit = None         # primitives one evaluate() may run
         self.keys = []                 # typed-ahead key codes for KEY
         self.read_key = None           # callable() -> key code, at the prompt
         self.read_line = None          # callable() -> line, for ACCEPT
+        self.key_ready = None          # callable() -> bool, for KEY?
         self._init_inner()
         self._init_outer()
         from rcl.words.blocks import BlockFile
@@ -163,13 +165,21 @@ class Forth(Inner, Outer):
         return self.clock / CLOCK_HZ
 
     def evaluate(self, text):
-        """Interpret text as typed lines; -> what it printed."""
+        """Interpret text as typed lines; -> what it printed.
+
+        With `step_limit` set, a call running more than that many primitives'
+        worth of virtual time aborts with ` Step limit `."""
         self.sources[0].lines = iter(text.split("\n"))
+        if self.step_limit is not None:
+            self.clock_limit = self.clock + self.step_limit * self.cost[inner.DOCOL]
+            self.reschedule()
         try:
             while self.refill():
                 self.guarded(self.interpret)
         finally:
             self.sources[0].lines = iter(())
+            self.clock_limit = float("inf")
+            self.reschedule()
         return self.take_output()
 
     def session(self, text):
@@ -198,23 +208,21 @@ class Forth(Inner, Outer):
         """Run action; any error aborts the machine and raises ForthError."""
         try:
             return action()
-        except ForthError as e:
+        except Bye:
+            raise
+        except (Exception, KeyboardInterrupt) as exc:   # never a traceback
+            e = as_forth_error(exc)
             if e.code == -56:              # QUIT: back to the prompt, stack kept
                 self.quit()
                 return None
             self.fail(e)
-        except Bye:
-            raise
-        except KeyboardInterrupt:
-            self.fail(ForthError(-28, "Interrupted"))
-        except IndexError:            # a pop from an empty stack
-            self.fail(ForthError(-4))
-        except RecursionError:
-            self.fail(ForthError(-5))
-        except Exception as exc:           # a bug of ours: still no traceback
-            self.fail(ForthError(-4095, "Internal error: %s: %s" % (type(exc).__name__, exc)))
 
     def fail(self, e):
+        if e.file is None:                 # where in a file it happened
+            for src in reversed(self.sources):
+                if src.kind == "file":
+                    e.file, e.line = src.name, src.line
+                    break
         self.abort()
         e.output = self.take_output()
         raise e from None

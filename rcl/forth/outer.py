@@ -20,7 +20,7 @@ leaves compile state and drops every nested source, as F83's ABORT does.
 """
 from dataclasses import dataclass
 
-from rcl.errors import ForthError
+from rcl.errors import Bye, ForthError, as_forth_error
 from rcl.forth.memory import INPUT_AREA, MASK, SIZE
 from rcl.forth.numbers import convert
 
@@ -225,10 +225,13 @@ class Outer:
         try:
             while self.refill():
                 self.interpret()
-        except ForthError as e:
+        except (Exception, KeyboardInterrupt) as exc:
+            if isinstance(exc, Bye):
+                raise
+            e = as_forth_error(exc)
             if e.file is None:
                 e.file, e.line = name, src.line
-            raise
+            raise e from None
         finally:
             if self.sources and self.sources[-1] is src:
                 self.pop_source()

@@ -112,8 +112,8 @@ def using(m):
     name = parse_word(m)
     try:
         bf(m).open(name)
-    except OSError:
-        raise ForthError(-38, "File not found", name) from None
+    except (OSError, ValueError):
+        raise ForthError(-38, "File not found", name.replace("\0", "?")) from None
 
 
 @prim("BLOCK", "( n -- addr ) the buffer holding block n")

@@ -235,7 +235,6 @@ def case(m):
 branch_word("CASE", "( -- ) C: ( -- case-sys )", case)
 
 
-@prim("OF", "( x1 x2 -- | x1 ) C: ( -- of-sys )", immediate=True)
 def of(m):
     compile_name(m, "OVER")
     compile_name(m, "=")
@@ -245,19 +244,26 @@ def of(m):
     push_cs(m, a, OF_SYS)
 
 
-@prim("ENDOF", "( -- ) C: ( of-sys -- orig )", immediate=True)
+prim("OF", "( x1 x2 -- | x1 ) C: ( -- of-sys )", immediate=True)(compile_only("OF", of))
+
+
 def endof(m):
     a = pop_cs(m, OF_SYS)
     _ahead(m)
     resolve(m, a)
 
 
-@prim("ENDCASE", "( x -- ) C: ( case-sys orig* -- )", immediate=True)
+prim("ENDOF", "( -- ) C: ( of-sys -- orig )", immediate=True)(compile_only("ENDOF", endof))
+
+
 def endcase(m):
     compile_name(m, "DROP")
     while len(m.s) >= 2 and m.s[-1] == ORIG:
         _then(m)
     pop_cs(m, CASE_SYS)
+
+
+prim("ENDCASE", "( x -- ) C: ( case-sys orig* -- )", immediate=True)(compile_only("ENDCASE", endcase))
 
 
 @prim("CS-PICK", "( -- ) C: ( x_u ... x_0 u -- x_u ... x_0 x_u )")
@@ -277,13 +283,18 @@ def cs_roll(m):
 
 
 # -------------------------------------------------------------- literals
-@prim("LITERAL", "( n -- ) compile n", immediate=True)
+@prim("LITERAL", "( n -- ) compile n (interpreting: nothing, as in F83)",
+      immediate=True)
 def literal(m):
+    if not compiling(m):
+        return
     compile_name(m, "LIT")
     m.dictionary.comma(m.s.pop())
 
 
 def _dliteral(m):
+    if not compiling(m):
+        return
     hi, lo = m.s.pop(), m.s.pop()
     for v in (lo, hi):
         compile_name(m, "LIT")
@@ -300,13 +311,14 @@ def compile_next(m, xt):
     m.dictionary.comma(xt)
 
 
-@prim("[COMPILE]", "( -- ) compile the next word even if it is immediate",
-      immediate=True)
 def bracket_compile(m):
     m.dictionary.comma(tick(m, parse_word(m)))
 
 
-@prim("POSTPONE", "( -- ) compile the compilation of the next word", immediate=True)
+prim("[COMPILE]", "( -- ) compile the next word even if it is immediate",
+      immediate=True)(compile_only("[COMPILE]", bracket_compile))
+
+
 def postpone(m):
     name = parse_word(m)
     hit = m.dictionary.find(name)
@@ -320,6 +332,9 @@ def postpone(m):
         m.dictionary.comma(xt)
 
 
+prim("POSTPONE", "( -- ) compile the compilation of the next word", immediate=True)(compile_only("POSTPONE", postpone))
+
+
 @prim("COMPILE,", "( xt -- ) compile a call of xt")
 def compile_comma(m):
     m.dictionary.comma(m.s.pop())
@@ -330,10 +345,12 @@ def tick_word(m):
     m.s.append(tick(m, parse_word(m)))
 
 
-@prim("[']", "( -- ) compile the xt of the next word as a literal", immediate=True)
 def bracket_tick(m):
     compile_name(m, "LIT")
     m.dictionary.comma(tick(m, parse_word(m)))
+
+
+prim("[']", "( -- ) compile the xt of the next word as a literal", immediate=True)(compile_only("[']", bracket_tick))
 
 
 @prim(">BODY", "( xt -- addr ) the data field of a CREATEd word",

@@ -3,18 +3,9 @@
 Every Forth error is a ForthError carrying a THROW code; CATCH catches it,
 puts the stacks back to their depths at CATCH and pushes the code.
 """
-from rcl.errors import ForthError
+from rcl.errors import ForthError, as_forth_error
 from rcl.forth.memory import MASK, signed
 from rcl.forth.primitives import prim
-
-
-def as_forth_error(exc):
-    """A Python-level failure inside Forth code, as the Forth error it is."""
-    if isinstance(exc, ForthError):
-        return exc
-    if isinstance(exc, RecursionError):
-        return ForthError(-5)
-    return ForthError(-4)
 
 
 @prim("CATCH", "( i*x xt -- j*x 0 | i*x n ) run xt; catch what it throws", kind="call")

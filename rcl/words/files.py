@@ -11,6 +11,8 @@ from rcl.words.compiling import parse_word
 
 
 def resolve(m, name):
+    if not name or "\0" in name:
+        raise ForthError(-38, "File not found", name.replace("\0", "?"))
     for src in reversed(m.sources):
         if src.kind == "file" and src.name:
             near = os.path.join(os.path.dirname(src.name), name)

@@ -148,7 +148,7 @@ def lt_sharp(m):
 @prim("HOLD", "( c -- ) put c in front of the pictured output")
 def hold(m):
     h = (m.memory.fetch(m.a_hld) - 1) & MASK
-    if pad(m) - h > 255:
+    if not pad(m) - 256 <= h < pad(m):        # also: HLD never set by <#
         raise ForthError(-17, "Pictured output overflow")
     m.memory.store(m.a_hld, h)
     m.memory.cstore(h, m.s.pop())
@@ -332,9 +332,16 @@ def s_backslash_quote(m):
         m.s.extend(transient(m, text))
 
 
-@prim("ABORT\"", "( f -- ) abort with the message if f is true", immediate=True)
 def abort_quote(m):
     lay_string(m, '(ABORT")', quoted(m))
+
+
+def _abort_quote(m):
+    from rcl.words.compiling import compile_only
+    compile_only('ABORT"', abort_quote)(m)
+
+
+prim("ABORT\"", "( f -- ) abort with the message if f is true", immediate=True)(_abort_quote)
 
 
 @prim(".(", "( -- ) type the text up to ) now", immediate=True)
@@ -347,9 +354,10 @@ def dot_paren(m):
 def next_key(m):
     if m.keys:
         return m.keys.pop(0)
-    if m.read_key is not None:
-        return m.read_key()
-    raise ForthError(-39, "No input")
+    key = m.read_key() if m.read_key is not None else None
+    if key is None:
+        raise ForthError(-39, "No input")
+    return key
 
 
 @prim("KEY", "( -- c ) the next key")
@@ -359,7 +367,8 @@ def key(m):
 
 @prim("KEY?", "( -- f ) is a key waiting?")
 def key_q(m):
-    m.s.append(MASK if m.keys else 0)
+    ready = bool(m.keys) or (m.key_ready is not None and m.key_ready())
+    m.s.append(MASK if ready else 0)
 
 
 def read_line(m):
@@ -372,9 +381,7 @@ def read_line(m):
     line = next(m.sources[0].lines, None)
     if line is None and m.read_line is not None:
         line = m.read_line()
-    if line is None:
-        raise ForthError(-39, "No input")
-    return line
+    return "" if line is None else line      # at the end of input: an empty line
 
 
 @prim("ACCEPT", "( addr n -- n2 ) read a line of at most n characters")

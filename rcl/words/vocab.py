@@ -90,13 +90,13 @@ def get_current(m):
 
 @prim("SET-CURRENT", "( wid -- )")
 def set_current(m):
-    m.memory.store(m.a_current, m.s.pop())
+    m.memory.store(m.a_current, m.dictionary.check_wid(m.s.pop()))
 
 
 @prim("SEARCH-WORDLIST", "( addr u wid -- 0 | xt 1 | xt -1 )")
 def search_wordlist(m):
     wid, u, a = m.s.pop(), m.s.pop(), m.s.pop()
-    lfa = m.dictionary.find_in(wid, m.memory.text(a, u)) if u else 0
+    lfa = m.dictionary.find_in(m.dictionary.check_wid(wid), m.memory.text(a, u)) if u else 0
     if not lfa:
         m.s.append(0)
     else:

@@ -1,0 +1,246 @@
+"""The `rcl` command line: choose a machine, load files, run words, then
+read standard input, either at an interactive prompt or as a pipe.
+
+    rcl [--bare] [FILE ...] [-e WORDS] [--version]
+
+    make_machine(args) --> load FILEs in order --> run each -e WORDS
+        --> stdin is a terminal?  yes: repl.Repl (the ok prompt)
+                                  no:  run_pipe (plain source, no prompts)
+
+Exit status: 0 at the end of input or on BYE, 1 if an error happened
+outside the interactive prompt (a FILE, a -e, a piped line), 2 for a bad
+command line. Nothing here ever lets a Python traceback reach the user.
+"""
+import argparse
+import io
+import os
+import sys
+
+import rcl
+from rcl import repl
+
+BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
+          "BYE to leave, #help for the prompt's commands.")
+
+
+def version():
+    try:
+        from importlib.metadata import version as dist_version
+        return dist_version("rcl")
+    except Exception:
+        return getattr(rcl, "__version__", "0.1.0")   # a source tree, not installed
+
+
+# ------------------------------------------------------------------ output
+class Output:
+    """The machine's output stream, plus the text on the current screen line.
+
+    The prompt needs that text (`tail`) to draw the user's line after it,
+    the F83 way; the pipe needs nothing but the text itself.
+    """
+
+    def __init__(self, stream, flush_each):
+        self.stream = stream
+        self.flush_each = flush_each
+        self.tail = ""
+
+    def write(self, text):
+        self.send(text, self.flush_each)
+        cut = max(text.rfind("\n"), text.rfind("\r"))
+        self.tail = text[cut + 1:] if cut >= 0 else (self.tail + text)[-4096:]
+
+    def redraw(self, text):
+        """Write text the screen already held (it does not move the tail)."""
+        self.send(text, True)
+
+    def send(self, text, flush):
+        try:
+            self.stream.write(text)
+            if flush:
+                self.stream.flush()
+        except BrokenPipeError:
+            raise StdoutClosed() from None
+
+    def end_line(self):
+        if self.tail:
+            self.write("\n")
+
+    def flush(self):
+        self.send("", True)
+
+
+class StdoutClosed(BaseException):
+    """Whoever read our standard output went away (`rcl ... | head`).
+    Not an Exception, so the machine's error handling lets it through to
+    main, which leaves quietly."""
+
+
+class LineFeed:
+    """Piped standard input as the machine's keyboard: whole lines for the
+    interpreter and ACCEPT, single characters for KEY (Enter reads as 13)."""
+
+    def __init__(self, stream):
+        self.stream = stream
+        self.pending = ""         # the rest of a line KEY has started
+
+    def line(self):
+        text, self.pending = self.pending or self.stream.readline(), ""
+        return text.rstrip("\r\n") if text else None
+
+    def key(self):
+        if not self.pending:
+            self.pending = self.stream.readline()
+            if not self.pending:
+                raise rcl.ForthError(-39, "No input")
+        c, self.pending = self.pending[0], self.pending[1:]
+        return 13 if c == "\n" else ord(c)
+
+
+# ----------------------------------------------------------------- machine
+def make_machine(args, write):
+    """The machine the command line drives. Today always a bare F83 machine;
+    later `rcl.open()` (simulated board, RCL screens) unless --bare."""
+    return rcl.Forth(write=write)
+
+
+def describe(args):
+    return "bare machine"
+
+
+# --------------------------------------------------------------- arguments
+def parse_args(argv):
+    p = argparse.ArgumentParser(
+        prog="rcl", description="RCL, an F83-style Forth for the 1986 R-E Robot.",
+        epilog="Files load first, in order, then each -e, then standard input: "
+               "a prompt on a terminal, else plain Forth source (no prompts).")
+    p.add_argument("files", nargs="*", metavar="FILE", help="Forth source to load")
+    p.add_argument("-e", dest="words", action="append", default=[], metavar="WORDS",
+                   help="Forth words to run after the files (may repeat)")
+    p.add_argument("--bare", action="store_true",
+                   help="a bare F83 machine, no board and no RCL screens")
+    p.add_argument("--version", action="version", version="rcl " + version())
+    return p.parse_intermixed_args(argv)
+
+
+# ------------------------------------------------------------------- loads
+def where(e, name):
+    """`file:line: text` for an error of a FILE or -e."""
+    if e.file:
+        return str(e)
+    if e.code == -38:
+        return "%s: %s" % (name, e.message)
+    return "%s: %s" % (name, e.display())
+
+
+def report(out, text):
+    """An error of the command line, on stderr, after what stdout holds."""
+    if out.stream.isatty():
+        out.end_line()
+    out.flush()
+    sys.stderr.write(text + "\n")
+    sys.stderr.flush()
+
+
+def run_startup(m, args, out):
+    """Load the FILEs, then run each -e. -> True, False on an error; Bye
+    passes through."""
+    steps = [(m.include, path, path) for path in args.files]
+    steps += [(m.evaluate, words, "-e") for words in args.words]
+    for action, arg, name in steps:
+        try:
+            action(arg)
+        except rcl.ForthError as e:
+            report(out, where(e, name))
+            return False
+        except KeyboardInterrupt:               # between words: the VM did not see it
+            report(out, "%s: Interrupted" % name)
+            return False
+    return True
+
+
+# -------------------------------------------------------------------- pipe
+def run_pipe(m, out, feed):
+    """Interpret piped lines; every error shows as on F83's screen, and the
+    next line still runs. -> 0, or 1 if any line failed."""
+    status = 0
+    while True:
+        line = feed.line()
+        if line is None:
+            return status
+        try:
+            m.evaluate(line)
+        except rcl.ForthError as e:
+            out.write(e.screen() + "\n")
+            status = 1
+        except rcl.Bye:
+            return status
+        except Exception as e:
+            out.write(internal(m, e) + "\n")
+            status = 1
+        out.flush()
+
+
+def internal(m, exc):
+    """An exception the machine should not have let out: abort it and say
+    what happened, F83-style, without a traceback."""
+    try:
+        m.abort()
+    except Exception:
+        pass
+    return " Internal error: %s: %s " % (type(exc).__name__, exc)
+
+
+# -------------------------------------------------------------------- main
+def run(argv):
+    args = parse_args(argv)
+    for stream in (sys.stdout, sys.stderr, sys.stdin):
+        if hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="replace")
+    interactive = sys.stdin is not None and sys.stdin.isatty()
+    out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty())
+    m = make_machine(args, out.write)
+    if not interactive:
+        feed = LineFeed(sys.stdin or io.StringIO())   # stdin closed: no input
+        m.read_line, m.read_key = feed.line, feed.key
+        try:
+            if not run_startup(m, args, out):
+                return 1
+            status = run_pipe(m, out, feed)
+        except rcl.Bye:
+            status = 0
+        if out.stream.isatty():
+            out.end_line()
+        return status
+    shell = repl.Repl(m, out)
+    out.write(BANNER % (version(), describe(args)) + "\n")
+    try:
+        status = 0 if run_startup(m, args, out) else 1
+    except rcl.Bye:
+        out.end_line()
+        return 0
+    shell.run()
+    return status
+
+
+def main(argv=None):
+    """Entry point of the `rcl` console script and `python3 -m rcl`."""
+    try:
+        return run(argv)
+    except SystemExit as e:                      # argparse: --help, bad usage
+        return e.code if isinstance(e.code, int) else 0 if e.code is None else 2
+    except KeyboardInterrupt:
+        return 130
+    except (StdoutClosed, BrokenPipeError):
+        # The reader went away: say nothing, and keep Python's exit-time
+        # flush of stdout from complaining either.
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except Exception:
+            pass
+        return 1
+    except Exception as e:
+        try:
+            sys.stderr.write("rcl: internal error: %s: %s\n" % (type(e).__name__, e))
+        except Exception:
+            pass
+        return 2

@@ -1,0 +1,183 @@
+"""The `rcl` command line with standard input not a terminal: plain Forth
+source in, only what the program prints out, F83's error text on stdout,
+exit status 0 or 1. Each test runs `python3 -m rcl` as a user would."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def rcl(*args, stdin="", cwd=None):
+    """Run `python3 -m rcl ARGS` with stdin from a pipe; -> CompletedProcess.
+    Fails the test if anything looks like a Python traceback."""
+    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    done = subprocess.run([sys.executable, "-m", "rcl", *args], input=stdin,
+                          capture_output=True, text=True, timeout=60, cwd=cwd, env=env)
+    assert "Traceback" not in done.stdout + done.stderr
+    return done
+
+
+@pytest.fixture
+def source(tmp_path):
+    """Write a Forth source file; -> its path."""
+    def write(text, name="prog.fs"):
+        path = tmp_path / name
+        path.write_text(text)
+        return str(path)
+    return write
+
+
+def test_piped_line_prints_only_what_the_program_prints():
+    done = rcl(stdin="2 3 + .\n")
+    assert (done.stdout, done.returncode) == ("5 ", 0)
+
+
+def test_piped_input_without_final_newline_still_runs():
+    assert rcl(stdin="2 3 + .").stdout == "5 "
+
+
+def test_empty_input_exits_zero_and_prints_nothing():
+    done = rcl(stdin="")
+    assert (done.stdout, done.stderr, done.returncode) == ("", "", 0)
+
+
+def test_unknown_word_shows_f83_text_exits_one_and_next_line_runs():
+    done = rcl(stdin="foo\n1 2 + .\n")
+    assert done.stdout == "FOO  ? \n3 "
+    assert done.returncode == 1
+
+
+def test_stack_underflow_shows_f83_text_between_blanks():
+    done = rcl(stdin="drop\n")
+    assert (done.stdout, done.returncode) == (" Stack Underflow \n", 1)
+
+
+def test_error_abandons_the_rest_of_its_line_only():
+    assert rcl(stdin="1 . foo 2 .\n3 .\n").stdout == "1 FOO  ? \n3 "
+
+
+def test_colon_definition_spans_piped_lines():
+    assert rcl(stdin=": SQ\n DUP * ;\n7 SQ .\n").stdout == "49 "
+
+
+def test_bye_exits_zero_and_stops_reading():
+    done = rcl(stdin="1 .\nBYE\n2 .\n")
+    assert (done.stdout, done.returncode) == ("1 ", 0)
+
+
+def test_bye_inside_a_word_exits():
+    done = rcl(stdin=": QUIT-NOW 7 . BYE ; QUIT-NOW 8 .\n9 .\n")
+    assert (done.stdout, done.returncode) == ("7 ", 0)
+
+
+def test_bye_after_an_error_exits_one():
+    assert rcl(stdin="foo\nBYE\n").returncode == 1
+
+
+def test_accept_reads_the_next_piped_line():
+    done = rcl(stdin="PAD 80 ACCEPT PAD SWAP TYPE\nhello world\n1 .\n")
+    assert done.stdout == "hello world1 "
+
+
+def test_key_reads_the_next_piped_characters_enter_as_13():
+    assert rcl(stdin="KEY . KEY . KEY .\nAB\n").stdout == "65 66 13 "
+
+
+def test_accept_at_end_of_input_reads_an_empty_line():
+    done = rcl(stdin="PAD 80 ACCEPT .\n")
+    assert (done.stdout, done.returncode) == ("0 ", 0)
+
+
+def test_key_at_end_of_input_is_an_error_not_a_crash():
+    done = rcl(stdin="KEY .\n")
+    assert (done.stdout, done.returncode) == (" No input \n", 1)
+
+
+def test_file_loads_before_standard_input(source):
+    path = source(": GREET .\" hi\" ;\n")
+    assert rcl(path, stdin="GREET\n").stdout == "hi"
+
+
+def test_files_load_in_order(source):
+    first = source(": A 1 . ;\n", "a.fs")
+    second = source(": B A 2 . ;\n", "b.fs")
+    assert rcl(first, second, stdin="B\n").stdout == "1 2 "
+
+
+def test_file_error_prints_file_and_line_on_stderr_and_exits_one(source):
+    path = source(": OK1 1 . ;\n\n  foo\n")
+    done = rcl(path, stdin="1 .\n")
+    assert done.stderr == "%s:3: FOO  ?\n" % path
+    assert done.returncode == 1
+    assert done.stdout == ""                     # stdin is not read after it
+
+
+def test_file_error_message_keeps_f83_text(source):
+    path = source("DROP\n")
+    assert rcl(path).stderr == "%s:1: Stack Underflow\n" % path
+
+
+def test_missing_file_says_so_without_traceback(tmp_path):
+    missing = str(tmp_path / "nosuch.fs")
+    done = rcl(missing, stdin="1 .\n")
+    assert done.stderr == "%s: File not found\n" % missing
+    assert done.returncode == 1
+
+
+def test_directory_as_file_is_an_error_without_traceback(tmp_path):
+    done = rcl(str(tmp_path))
+    assert done.returncode == 1
+    assert "File not found" in done.stderr
+
+
+def test_e_words_run_after_files_and_before_stdin(source):
+    path = source(": SQ DUP * ;\n")
+    done = rcl(path, "-e", "7 SQ .", stdin="1 .\n")
+    assert (done.stdout, done.returncode) == ("49 1 ", 0)
+
+
+def test_e_may_be_given_more_than_once_and_runs_in_order():
+    assert rcl("-e", "1 .", "-e", "2 .").stdout == "1 2 "
+
+
+def test_e_may_come_before_the_files(source):
+    path = source(": SQ DUP * ;\n")
+    assert rcl("-e", "3 SQ .", path).stdout == "9 "
+
+
+def test_e_error_is_reported_on_stderr_and_exits_one():
+    done = rcl("-e", "foo", stdin="1 .\n")
+    assert done.stderr == "-e: FOO  ?\n"
+    assert (done.stdout, done.returncode) == ("", 1)
+
+
+def test_e_bye_exits_zero_without_reading_stdin():
+    done = rcl("-e", "5 . BYE", stdin="6 .\n")
+    assert (done.stdout, done.returncode) == ("5 ", 0)
+
+
+def test_bare_is_accepted():
+    assert rcl("--bare", stdin="2 3 * .\n").stdout == "6 "
+
+
+def test_version_names_rcl():
+    done = rcl("--version")
+    assert done.returncode == 0
+    assert done.stdout.startswith("rcl ")
+
+
+def test_unknown_option_is_a_usage_error_without_traceback():
+    done = rcl("--no-such-option")
+    assert done.returncode == 2
+    assert "usage: rcl" in done.stderr
+
+
+def test_undecodable_input_bytes_do_not_crash():
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    done = subprocess.run([sys.executable, "-m", "rcl"], input=b"\xff\xfe 1 .\n2 .\n",
+                          capture_output=True, timeout=60, env=env)
+    assert b"Traceback" not in done.stdout + done.stderr
+    assert done.stdout.endswith(b"2 ")
