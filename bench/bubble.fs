@@ -4,7 +4,6 @@
 \ 64-bit gforth; F83 has no CELLS), the generator works modulo 2^15 so every
 \ stored value is a non-negative 16-bit number, and the comparisons are signed
 \ on small positives only. The loops run over addresses with +LOOP.
-\ WORDS-EXECUTED 15281000
 \ Expected output: CHECKSUM 13585
 
 HERE 0 , HERE SWAP - CONSTANT CELLSIZE    \ bytes per cell

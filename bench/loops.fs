@@ -3,7 +3,6 @@
 \ + - * wrap the same way on 16 and 64 bits in their low 16 bits, and the
 \ accumulator is masked to 15 bits after every pass, so it is never
 \ negative and prints the same everywhere. MOD only sees I >= 0 and 7.
-\ WORDS-EXECUTED 15020212
 \ Expected output: CHECKSUM 30304
 
 : LOOPS-BENCH  ( -- n )

@@ -18,8 +18,9 @@ bench/expected.txt (gforth runs on 64-bit cells, rcl on 16-bit cells; the
 programs are written so the result is the same on both).
 
 Reading the table: "ratio" = rcl time / gforth time (how many times slower
-rcl is than gforth).  "Mwords/s" = the program's `\\ WORDS-EXECUTED` count
-(compiled tokens executed, counted by bench/count16.py) / rcl time.  The target
+rcl is than gforth).  "Mwords/s" = the primitives rcl executed (every cell of
+threaded code run, counted exactly by its virtual clock: clock / cost of one
+primitive, all costs being the default here) / rcl time.  The target
 is rcl >= 6 M words/s (5x a plain Python Forth at ~1.2 M words/s), which is
 roughly a ratio of 50-125 against gforth 0.7.3 on these programs.
 """
@@ -54,18 +55,17 @@ def best_of(k, run):
 
 
 def time_rcl(source, k):
-    """(seconds, checksum, virtual seconds or None) or raise."""
+    """(seconds, checksum, virtual seconds, primitives executed) or raise."""
     import rcl
-    best, out, virtual = float('inf'), '', None
+    from rcl.forth.primitives import DEFAULT_COST
+    best, out = float('inf'), ''
     for _ in range(k):
         m = rcl.Forth()
+        start = m.clock
         t0 = time.perf_counter()
         out = m.evaluate(source)
         best = min(best, time.perf_counter() - t0)
-        virtual = getattr(m, 'seconds', None)
-        if virtual is None and getattr(m, 'clock', None) is not None:
-            virtual = m.clock * 1e-9 / 36          # clock ticks are 1/36 ns
-    return best, checksum(out), virtual
+    return best, checksum(out), m.seconds, (m.clock - start) // DEFAULT_COST
 
 
 def time_gforth(path, k, startup):
@@ -106,11 +106,10 @@ def main():
     for name in [args.only] if args.only else PROGRAMS:
         path = BENCH / f'{name}.fs'
         source = path.read_text()
-        words = int(re.search(r'WORDS-EXECUTED\s+(\d+)', source).group(1))
         want = int(expected[path.name])
 
         try:
-            rcl_s, rcl_sum, virtual = time_rcl(source, args.repeat)
+            rcl_s, rcl_sum, virtual, words = time_rcl(source, args.repeat)
             rcl_col, rcl_ok = f'{rcl_s:.2f}', ok(rcl_sum, want)
             mwords = f'{words / rcl_s / 1e6:.2f}'
             virt = '-' if virtual is None else f'{virtual:.1f}'
@@ -131,7 +130,7 @@ def main():
         print(f'| {name} | {rcl_col} | {g_col} | {ratio} | {mwords} | {virt} '
               f'| {rcl_ok} / {g_ok} |')
 
-    print(f'\nwords executed: from each file\'s WORDS-EXECUTED line; '
+    print(f'\nwords: primitives executed, counted by rcl\'s virtual clock; '
           f'target >= {TARGET_MWORDS:g} M words/s.')
     if gforth:
         print(f'gforth start-up ({startup * 1000:.1f} ms) subtracted from the '

@@ -2,7 +2,6 @@
 \ (8190 flags, the classic BYTE benchmark), repeated 60 times.
 \ Portable to gforth and F83: the largest value ever formed is 24,572,
 \ well inside a signed 16-bit cell.
-\ WORDS-EXECUTED 17534955
 \ Expected output: CHECKSUM 1899  (primes below 16384, excluding 2)
 
 8190 CONSTANT #FLAGS
