@@ -10,6 +10,7 @@ import os
 
 import sys
 
+from rcl.board import NullBoard
 from rcl.errors import Bye, ForthError, as_forth_error
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
@@ -46,7 +47,7 @@ class Forth(Inner, Outer):
 
     _image = None                      # the booted memory, shared per process
 
-    def __init__(self, write=None):
+    def __init__(self, write=None, board=None):
         self.memory = Memory(self.watched)
         self.mem = self.memory.mem
         self.watch = self.memory.watch
@@ -77,6 +78,8 @@ class Forth(Inner, Outer):
             self.mem[:] = mem
             self.watch[:] = watch
             self.xt_of = dict(self.xt_of)
+        self.board = board if board is not None else NullBoard()
+        self.board.attach(self)
 
     # --------------------------------------------------------------- boot
     def _boot(self):

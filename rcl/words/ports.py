@@ -1,0 +1,64 @@
+"""Port I/O and far memory: how Forth reaches the board (F83's CPU8086.BLK
+words, and the far-memory additions of board-hardware.md 5.7).
+
+Each goes through the machine's board (rcl/board.py); a bare machine's
+NullBoard floats every port at 0xFF. Port words end a compiled block
+(kind "call"): a write may reprogram a timer and so move the next
+interrupt, and a read must see the clock of its own moment.
+"""
+from rcl.board import FORTH_CS
+from rcl.forth.memory import MASK
+from rcl.forth.primitives import prim
+
+
+@prim("PC!", "( c port -- ) 8-bit OUT", kind="call")
+def pc_store(m):
+    port = m.s.pop()
+    m.board.out8(port, m.s.pop() & 0xFF)
+
+
+@prim("PC@", "( port -- c ) 8-bit IN, zero-extended", kind="call")
+def pc_fetch(m):
+    m.s[-1] = m.board.in8(m.s[-1]) & 0xFF
+
+
+@prim("P!", "( n port -- ) 16-bit OUT", kind="call")
+def p_store(m):
+    port = m.s.pop()
+    m.board.out16(port, m.s.pop())
+
+
+@prim("P@", "( port -- n ) 16-bit IN", kind="call")
+def p_fetch(m):
+    m.s[-1] = m.board.in16(m.s[-1]) & MASK
+
+
+@prim("LC@", "( seg off -- c ) a byte of the 1 MiB address space", kind="call")
+def lc_fetch(m):
+    off, seg = m.s.pop(), m.s.pop()
+    m.s.append(m.board.far_fetch8(seg, off))
+
+
+@prim("LC!", "( c seg off -- ) store a byte in the 1 MiB address space", kind="call")
+def lc_store(m):
+    off, seg, c = m.s.pop(), m.s.pop(), m.s.pop()
+    m.board.far_store8(seg, off, c & 0xFF)
+
+
+@prim("L@", "( seg off -- n ) a little-endian cell of the 1 MiB space", kind="call")
+def l_fetch(m):
+    off, seg = m.s.pop(), m.s.pop()
+    b = m.board
+    m.s.append(b.far_fetch8(seg, off) | (b.far_fetch8(seg, (off + 1) & MASK) << 8))
+
+
+@prim("L!", "( n seg off -- ) store a cell in the 1 MiB space", kind="call")
+def l_store(m):
+    off, seg, n = m.s.pop(), m.s.pop(), m.s.pop()
+    m.board.far_store8(seg, off, n & 0xFF)
+    m.board.far_store8(seg, (off + 1) & MASK, n >> 8)
+
+
+@prim("GET-CS", "( -- seg ) the code segment of the Forth system")
+def get_cs(m):
+    m.s.append(FORTH_CS)
