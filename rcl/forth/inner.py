@@ -139,6 +139,7 @@ class Inner:
         self.interrupts = 0
         self.cost = [p.cost if p else 0 for p in REGISTRY]   # clock units per primitive
         self.compiled = True     # False: run everything through run_from
+        self.waiting_until = None
 
     # ---------------------------------------------------------- calling
     def enter(self, addr, ret):
@@ -309,10 +310,17 @@ class Inner:
 
     def advance_to(self, t):
         """Skip the clock forward to t, servicing every interrupt due on the
-        way exactly when it falls due (for waiting words)."""
-        while self.deadline <= t:
-            self.clock = max(self.clock, int(self.deadline))
-            self.housekeep()
+        way exactly when it falls due (for waiting words). While it waits,
+        `waiting_until` tells an interrupt source how far nothing else runs."""
+        self.waiting_until = t
+        self.hk_next = max(self.hk_next, t)     # nothing to check while waiting
+        self.reschedule()
+        try:
+            while self.deadline <= t:
+                self.clock = max(self.clock, int(self.deadline))
+                self.housekeep()
+        finally:
+            self.waiting_until = None
         self.clock = max(self.clock, t)
 
 

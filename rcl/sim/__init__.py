@@ -1,0 +1,1 @@
+"""The simulated R-E Robot board: chips, motors, robot pose, virtual clock."""

@@ -1,0 +1,270 @@
+"""The simulated R-E Robot control board: the one table that maps ports to
+chips, the 80188's 1 MiB memory, the simulated BIOS, and the physics, all
+driven by the Forth machine's virtual clock.
+
+    port        chip                             (board-hardware.md 5.1)
+    0x80-0x83   I8253 #1: left speed ref, left fwd/rev encoder counts
+    0x84-0x87   I8253 #2: right speed ref, right fwd/rev encoder counts
+    0x88        MOTOR latch (write-only)   0x89 AUX latch (write-only)
+    0x8A        STATUS (read-only)
+    0xFF00-FF   80188 peripheral control block (timers, interrupt controller)
+    other       floating bus: reads 0xFF, writes ignored
+
+    linear memory (seg * 16 + off)
+    0x00000     vector table (type 8 timer 0 at 0x20, 1Ch user tick at 0x70)
+    0x00400     BIOS data area: tick count 0040:006C, midnight flag 0040:0070,
+                ticks per day 0040:00F0 (our BIOS's switch, see below)
+    0x10000     the Forth machine's 64 KiB (segment FORTH_CS = 0x1000)
+    elsewhere   reads 0xFF
+
+Time is lazy: chips and physics are brought up to `machine.clock` when a
+port is touched or an interrupt is serviced. Physics runs in 1 ms
+sub-steps (10 per RCL tick) and jumps straight over stretches in which
+nothing moves.
+
+The simulated BIOS (Python, not Forth) is the type-8 handler: it adds one
+to the 32-bit tick count, wraps it at the ticks-per-day value (1,573,040 at
+power-on, 8,640,000 once RCL's INSTALL stores that at 0040:00F0: the "new
+BIOS-level handler" of the article), runs INT 1Ch, and sends the EOI.
+INT 1Ch pointing into the Forth segment runs that Forth word; anything
+else is taken as the power-on IRET.
+"""
+import collections
+
+from rcl.board import FORTH_CS, Board
+from rcl.forth.primitives import CLOCK_HZ
+from rcl.sim import constants as C
+from rcl.sim.i8253 import I8253
+from rcl.sim.motors import Drive
+from rcl.sim.timer80188 import Timer80188
+
+MS = CLOCK_HZ // 1000                     # clock units per physics sub-step
+BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
+TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
+LOW_RAM = 0x10000                         # segment 0's 64 KiB
+EOI_TIMER = 0x0008
+
+
+class SimBoard(Board):
+    """The default board: everything a user's RCL program drives."""
+
+    def __init__(self):
+        self.clock = 0                    # the time chips and physics are at
+        self.pcb = Timer80188.power_on(0)
+        self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
+        self.clk0 = {C.LEFT_8253: 0, C.RIGHT_8253: 0}   # 125 kHz pulses delivered
+        self.drive = Drive()
+        self.motor_latch = 0
+        self.aux_latch = 0
+        self.low = bytearray(LOW_RAM)
+        self.physics_ms = 0
+        self.ticks = 0                    # timer-0 interrupts serviced
+        self.overruns = 0                 # handlers still running at the next tick
+        self.port_log = collections.deque(maxlen=100_000)   # (clock, port, value)
+        self.beeps = []                   # [start, end] in clock units
+        self.observers = []               # callables(board) after each tick
+        self.pacer = None                 # real-time pacing, when set
+        self._power_on_bios()
+
+    def _power_on_bios(self):
+        self.set_vector(8, BIOS_SEG, BIOS_TIMER)
+        self.set_vector(0x1C, BIOS_SEG, BIOS_IRET)
+        self.low_store32(PER_DAY_ADDR, C.TICKS_PER_DAY_BIOS)
+
+    # ------------------------------------------------------------ memory
+    def low_fetch32(self, a):
+        return int.from_bytes(self.low[a:a + 4], "little")
+
+    def low_store32(self, a, v):
+        self.low[a:a + 4] = (v & 0xFFFFFFFF).to_bytes(4, "little")
+
+    def set_vector(self, n, seg, off):
+        self.low[4 * n:4 * n + 4] = off.to_bytes(2, "little") + seg.to_bytes(2, "little")
+
+    def vector(self, n):
+        """(seg, off) of interrupt type n."""
+        v = self.low[4 * n:4 * n + 4]
+        return v[2] | (v[3] << 8), v[0] | (v[1] << 8)
+
+    def far_fetch8(self, seg, off):
+        a = ((seg << 4) + off) & 0xFFFFF
+        if a < LOW_RAM:
+            return self.low[a]
+        if a < 2 * LOW_RAM:
+            return self.machine.mem[a - LOW_RAM]
+        return 0xFF
+
+    def far_store8(self, seg, off, byte):
+        a = ((seg << 4) + off) & 0xFFFFF
+        if a < LOW_RAM:
+            self.low[a] = byte
+        elif a < 2 * LOW_RAM:
+            self.machine.memory.cstore(a - LOW_RAM, byte)
+
+    # ------------------------------------------------------------- ports
+    def out8(self, port, byte):
+        now = self.sync()
+        self.port_log.append((now, port, byte))
+        if port in (C.MOTOR_PORT, C.AUX_PORT):
+            self._latch(port, byte, now)
+        elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
+            base = port & ~3
+            self._clock_ref(base, now)
+            self.chips[base].write(port & 3, byte)
+        elif port >= C.PCB_BASE:
+            old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
+            word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
+            self._pcb_write(port & 0xFE, word, now)
+
+    def in8(self, port):
+        now = self.sync()
+        if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
+            base = port & ~3
+            self._clock_ref(base, now)
+            return self.chips[base].read(port & 3)
+        if port == C.STATUS_PORT:
+            return self.drive.status_byte(*self.references())
+        if port >= C.PCB_BASE:
+            word = self.pcb.read16(port & 0xFE, self.pcb_time(now))
+            return word >> 8 if port & 1 else word & 0xFF
+        return 0xFF                       # unused ports and write-only latches float
+
+    def out16(self, port, word):
+        if port >= C.PCB_BASE:            # the PCB takes whole words
+            now = self.sync()
+            self.port_log.append((now, port, word))
+            self._pcb_write(port & 0xFFFE, word, now)
+        else:                             # external: two byte cycles
+            super().out16(port, word)
+
+    def in16(self, port):
+        if port >= C.PCB_BASE:
+            return self.pcb.read16(port & 0xFE, self.pcb_time(self.sync()))
+        return super().in16(port)
+
+    def _pcb_write(self, offset, word, now):
+        self.pcb.write16(offset & 0xFF, word, self.pcb_time(now))
+        if self.machine is not None:
+            self.machine.reschedule()     # the next interrupt may have moved
+
+    def _latch(self, port, byte, now):
+        if port == C.MOTOR_PORT:
+            self.motor_latch = byte
+        else:
+            if (byte ^ self.aux_latch) & C.BEEPER:
+                if byte & C.BEEPER:
+                    self.beeps.append([now, None])
+                elif self.beeps:
+                    self.beeps[-1][1] = now
+            self.aux_latch = byte
+
+    def _clock_ref(self, base, now):
+        """Bring counter 0 (the 125 kHz speed reference) up to now."""
+        pulses = now * C.F_8253_CLK // CLOCK_HZ
+        self.chips[base].counters[0].clock(pulses - self.clk0[base])
+        self.clk0[base] = pulses
+
+    def references(self):
+        """The two PLL reference frequencies, Hz (0 if not running)."""
+        return tuple(self.chips[b].counters[0].frequency(C.F_8253_CLK)
+                     for b in (C.LEFT_8253, C.RIGHT_8253))
+
+    # ----------------------------------------------------------- physics
+    def sync(self):
+        """Bring the physics up to the machine's clock; -> the clock."""
+        now = self.machine.clock
+        target = now // MS
+        while self.physics_ms < target:
+            if self.idle():
+                self.physics_ms = target
+                break
+            self.step_ms()
+        self.clock = now
+        return now
+
+    def idle(self):
+        """Nothing moves and nothing would start moving."""
+        d, m = self.drive, self.motor_latch
+        if d.left.rate or d.right.rate or self.aux_latch & (C.ARM_ON | C.GRIP_ON | C.BEEPER):
+            return False
+        f_left, f_right = self.references()
+        return not ((m & C.M1_ON and m & C.M1_GO and f_left and not d.left.stalled)
+                    or (m & C.M2_ON and m & C.M2_GO and f_right and not d.right.stalled))
+
+    def step_ms(self):
+        f_left, f_right = self.references()
+        (lf, lr), (rf, rr) = self.drive.step(self.motor_latch, self.aux_latch, f_left, f_right)
+        left, right = self.chips[C.LEFT_8253].counters, self.chips[C.RIGHT_8253].counters
+        if lf:
+            left[1].clock(lf)
+        if lr:
+            left[2].clock(lr)
+        if rf:
+            right[1].clock(rf)
+        if rr:
+            right[2].clock(rr)
+        self.physics_ms += 1
+
+    # -------------------------------------------------------- interrupts
+    @property
+    def due(self):
+        return self.pcb.next_interrupt(self.pcb_time())
+
+    def pcb_time(self, now=None):
+        """The clock to ask the PCB at: after batched ticks it may be ahead of
+        the machine, and nothing happens in between."""
+        if now is None:
+            now = self.clock if self.machine is None else self.machine.clock
+        return max(now, self.pcb.clock)
+
+    def service(self, m):
+        """An interrupt request: the simulated BIOS handles timer 0."""
+        now = self.sync()
+        kind = self.pcb.acknowledge(self.pcb_time(now))
+        if kind == C.VECTOR_TIMER0:
+            self.ticks += 1
+            self.bios_tick(m)
+            self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+            self.batch_idle_ticks(m)
+            nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
+            if nxt is not None and nxt < m.clock:
+                self.overruns += 1
+            for observe in self.observers:
+                observe(self)
+            if self.pacer is not None:
+                self.pacer.wait(m.clock)
+        elif kind is not None:
+            self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
+
+    def batch_idle_ticks(self, m):
+        """While the machine only waits and INT 1Ch does nothing, every tick
+        up to the end of the wait would just count: count them at once.
+        (Each would have run at its own time with the same result.)"""
+        target = m.waiting_until
+        if target is None or self.observers or self.pacer is not None \
+                or self.vector(0x1C)[0] == FORTH_CS:
+            return
+        n = self.pcb.take_timer0_requests(target)
+        if n:
+            self.ticks += n
+            per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
+            count = self.low_fetch32(TICKS_ADDR) + n
+            if count >= per_day:
+                self.low[MIDNIGHT_ADDR] = 1
+            self.low_store32(TICKS_ADDR, count % per_day)
+
+    def bios_tick(self, m):
+        """Type 8: count the tick (midnight wrap), then INT 1Ch."""
+        count = self.low_fetch32(TICKS_ADDR) + 1
+        if count >= max(1, self.low_fetch32(PER_DAY_ADDR)):
+            count = 0
+            self.low[MIDNIGHT_ADDR] = 1
+        self.low_store32(TICKS_ADDR, count)
+        seg, off = self.vector(0x1C)
+        if seg == FORTH_CS:
+            m.run_handler(off)
+
+    def stop_motors(self):
+        """Safe state: every relay open (wheels braked, arm and gripper off)."""
+        self.motor_latch = 0
+        self.aux_latch &= ~(C.ARM_ON | C.GRIP_ON | C.BEEPER)

@@ -1,0 +1,128 @@
+"""Constants of the simulated R-E Robot board, from reference/board-hardware.md.
+
+One module, so that every number of the hardware has one name and one tag
+(section 8 of the reference):
+
+    ARTICLE   stated by the Radio-Electronics article (the seed document)
+    INTEL     standard behaviour of the Intel part (8253, 80186/80188)
+    PROPOSAL  a decision of the reference that makes the simulator concrete
+    derived   computed here from the numbers above it (tag of its sources)
+
+Bit constants are masks (1 << bit), ready for `byte & MASK`:
+
+    MOTOR latch 0x88   7  6  5     4     3      2     1      0
+                       -  -  M2-GO M1-GO M2-REV M2-ON M1-REV M1-ON
+    AUX latch   0x89   7  6  5  4      3          2       1        0
+                       -  -  -  BEEPER GRIP-CLOSE GRIP-ON ARM-DOWN ARM-ON
+    STATUS      0x8A   7  6       5       4       3           2           1          0
+                       0  CHARGER M2-LOCK M1-LOCK GRIP-CLOSED GRIP-OPENED ARM-BOTTOM ARM-TOP
+"""
+import math
+
+# ---------------------------------------------------------------------------
+# CLOCKS AND COUNTERS (sections 1, 2, 3.4)
+# ---------------------------------------------------------------------------
+
+F_8253_CLK = 125_000                # Hz, 2 MHz / 16 into each 8253 [ARTICLE]
+N_MAX = 65_536                      # 8253 count range, written as 0 [ARTICLE]
+ENCODER_CPR = 500                   # encoder counts per wheel revolution [ARTICLE]
+T0_CLOCK_US = 1.5                   # 80188 timer 0 input period, 2 MHz / 3 [ARTICLE]
+T0_CLOCK_HZ = 2_000_000 / 3         # the same clock as a frequency [ARTICLE]
+T0_RCL_COUNT = 6667                 # timer 0 max count for the 10 ms tick [ARTICLE]
+T0_BIOS_COUNT = 36_617              # power-on max count, 54.9255 ms [PROPOSAL]
+TICKS_PER_DAY_RCL = 8_640_000       # 86,400 s / 10 ms [derived, ARTICLE]
+TICKS_PER_DAY_BIOS = 1_573_040      # PC value, 0x1800B0 [PROPOSAL]
+TICK_S = 0.010                      # RCL control tick, 100 per second [ARTICLE]
+
+# ---------------------------------------------------------------------------
+# GEOMETRY AND UNITS (sections 7.1, 7.2, 7.4)
+# ---------------------------------------------------------------------------
+
+WHEEL_CIRC_IN = 17.6                # 1 MPH = 1 wheel rev/s [PROPOSAL]
+TRACK_IN = 44 / math.pi             # 14.006 in: a spin moves each wheel 44 in [PROPOSAL]
+COUNTS_PER_INCH = 625 / 22          # 28.409 = ENCODER_CPR / WHEEL_CIRC_IN [derived]
+COUNTS_PER_SPIN = 1250              # counts per wheel for a 360-degree spin [derived]
+N_MIN = 50                          # smallest 8253 speed count, 5 MPH, 2500 Hz [PROPOSAL]
+CRPM_MAX = 30_000                   # internal speed limit, centi-rpm, 300 rpm [PROPOSAL]
+G_IN_S2 = 386.4                     # 1 G = 32.2 ft/s^2 [ARTICLE]
+
+# ---------------------------------------------------------------------------
+# DRIVE MOTOR + PLL MODEL (section 6.1)
+# ---------------------------------------------------------------------------
+
+A_MOTOR_G = 0.5                     # drive torque limit as an acceleration [PROPOSAL]
+# 0.5 * 386.4 in/s^2 * 28.409 counts/in = 5,488.6 counts/s^2 [derived]
+A_MOTOR_COUNTS_S2 = A_MOTOR_G * G_IN_S2 * COUNTS_PER_INCH
+TAU_PLL_S = 0.020                   # PLL speed-loop time constant [PROPOSAL]
+TAU_COAST_S = 0.300                 # freewheeling decay, ON=1 GO=0 [PROPOSAL]
+TAU_BRAKE_S = 0.050                 # dynamic braking decay, ON=0 [PROPOSAL]
+PLL_LOCK_TOLERANCE = 0.05           # lock bit: |rate| within 5 % of f_ref [PROPOSAL]
+SUB_STEP_S = 0.001                  # physics sub-step, 10 per control tick [PROPOSAL]
+
+# ---------------------------------------------------------------------------
+# ARM AND GRIPPER (section 5.6)
+# ---------------------------------------------------------------------------
+
+ARM_SPEED_IN_S = 1.0                # lift speed [PROPOSAL]
+ARM_TRAVEL_IN = 8.0                 # lift travel 0.0 .. 8.0 in, power-on 8.0 [PROPOSAL]
+GRIP_SPEED_IN_S = 0.5               # jaw speed [PROPOSAL]
+GRIP_TRAVEL_IN = 3.0                # jaw opening 0.0 .. 3.0 in, power-on 0.0 [PROPOSAL]
+
+# ---------------------------------------------------------------------------
+# PORT MAP (section 5.1)
+# ---------------------------------------------------------------------------
+
+LEFT_8253 = 0x80                    # 8253 #1, motor 1 = left wheel [PROPOSAL]
+RIGHT_8253 = 0x84                   # 8253 #2, motor 2 = right wheel [PROPOSAL]
+MOTOR_PORT = 0x88                   # MOTOR relay/drive latch, write-only [PROPOSAL]
+AUX_PORT = 0x89                     # AUX latch: arm, gripper, beeper [PROPOSAL]
+STATUS_PORT = 0x8A                  # STATUS input, read-only [PROPOSAL]
+PCB_BASE = 0xFF00                   # 80188 peripheral control block [INTEL]
+
+# 8253 counter offsets from LEFT_8253 / RIGHT_8253 (section 5.2) [PROPOSAL]
+CTR_SPEED = 0                       # counter 0: speed reference, mode 3 [ARTICLE]
+CTR_FORWARD = 1                     # counter 1: forward encoder counts [ARTICLE]
+CTR_REVERSE = 2                     # counter 2: reverse encoder counts [ARTICLE]
+CTR_CONTROL = 3                     # control word register [INTEL]
+
+# ---------------------------------------------------------------------------
+# MOTOR LATCH BITS, port 0x88 (section 5.3) [PROPOSAL]
+# ---------------------------------------------------------------------------
+
+M1_ON = 0x01                        # bit 0: left relay closed (0 = braking short)
+M1_REV = 0x02                       # bit 1: left direction reverse
+M2_ON = 0x04                        # bit 2: right relay closed
+M2_REV = 0x08                       # bit 3: right direction reverse
+M1_GO = 0x10                        # bit 4: left PLL and drive current on
+M2_GO = 0x20                        # bit 5: right PLL and drive current on
+
+# ---------------------------------------------------------------------------
+# AUX LATCH BITS, port 0x89 (section 5.4) [PROPOSAL]
+# ---------------------------------------------------------------------------
+
+ARM_ON = 0x01                       # bit 0: lift motor running
+ARM_DOWN = 0x02                     # bit 1: lift direction down (0 = up)
+GRIP_ON = 0x04                      # bit 2: gripper motor running
+GRIP_CLOSE = 0x08                   # bit 3: gripper closing (0 = opening)
+BEEPER = 0x10                       # bit 4: piezo beeper sounding
+RELAYS_AUX_SHIFT = 8                # AUX byte is the high byte of RCL's RELAYS cell
+
+# ---------------------------------------------------------------------------
+# STATUS BITS, port 0x8A (section 5.5) [PROPOSAL]
+# ---------------------------------------------------------------------------
+
+ARM_TOP = 0x01                      # bit 0: lift at its upper limit switch
+ARM_BOTTOM = 0x02                   # bit 1: lift at its lower limit switch
+GRIP_OPENED = 0x04                  # bit 2: jaws at the fully-open limit
+GRIP_CLOSED = 0x08                  # bit 3: jaws closed, or stalled on an object
+M1_LOCK = 0x10                      # bit 4: left PLL locked
+M2_LOCK = 0x20                      # bit 5: right PLL locked
+CHARGER = 0x40                      # bit 6: on the charging contacts
+
+# ---------------------------------------------------------------------------
+# MEMORY AND INTERRUPTS (sections 3.3, 5.7)
+# ---------------------------------------------------------------------------
+
+FORTH_CS = 0x1000                   # segment GET-CS returns [PROPOSAL]
+VECTOR_TIMER0 = 0x08                # 80188 timer 0 interrupt type [INTEL]
+VECTOR_USER_TICK = 0x1C             # BIOS user timer hook, INT 1Ch [ARTICLE]
