@@ -10,7 +10,7 @@ from rcl.forth.machine import Forth  # noqa: E402
 __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 
 
-def open(realtime=False):  # noqa: A001  (rcl.open, as DESIGN.md names it)
+def open(realtime=False, write=None):  # noqa: A001  (rcl.open, as DESIGN.md names it)
     """A running system: a machine wired to a simulated board, with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
     realtime=True the virtual clock keeps pace with the wall clock."""
@@ -18,7 +18,7 @@ def open(realtime=False):  # noqa: A001  (rcl.open, as DESIGN.md names it)
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
     board = SimBoard()
-    m = Forth(board=board)
+    m = Forth(write=write, board=board)
     m.sim = Sim(board)
     if realtime:
         board.pacer = Pacer(m.clock)

@@ -98,13 +98,15 @@ class LineFeed:
 
 # ----------------------------------------------------------------- machine
 def make_machine(args, write):
-    """The machine the command line drives. Today always a bare F83 machine;
-    later `rcl.open()` (simulated board, RCL screens) unless --bare."""
-    return rcl.Forth(write=write)
+    """The machine the command line drives: the simulated board (rcl.open)
+    unless --bare asks for plain Forth."""
+    if args.bare:
+        return rcl.Forth(write=write)
+    return rcl.open(write=write)
 
 
 def describe(args):
-    return "bare machine"
+    return "bare machine" if args.bare else "simulated board"
 
 
 # --------------------------------------------------------------- arguments

@@ -416,3 +416,20 @@ def test_gripper_holding_an_object_stays_closed_with_the_motor_off():
         grip.step(C.GRIP_ON | C.GRIP_CLOSE)
     grip.step(0)
     assert grip.opening == 1.5 and grip.closed
+
+
+def test_cruising_at_steady_speed_gives_the_same_counts_and_pose_as_stepping():
+    stepped, cruised = Drive(), Drive()
+    relays = 0x3D                              # spin: left forward, right reverse
+    for d in (stepped, cruised):
+        for _ in range(1000):                  # reach the steady rate
+            d.step(relays, 0, 1000.0, 400.0)
+        assert d.steady(relays, 0, 1000.0, 400.0)
+    for _ in range(3000):
+        stepped.step(relays, 0, 1000.0, 400.0)
+    cruised.cruise(3000, relays)
+    assert abs(stepped.left.position - cruised.left.position) <= 1
+    assert abs(stepped.right.position - cruised.right.position) <= 1
+    assert cruised.robot.heading == pytest.approx(stepped.robot.heading, abs=1e-6)
+    assert cruised.robot.x == pytest.approx(stepped.robot.x, abs=1e-3)
+    assert cruised.robot.y == pytest.approx(stepped.robot.y, abs=1e-3)

@@ -64,7 +64,14 @@ class SimBoard(Board):
         self.beeps = []                   # [start, end] in clock units
         self.observers = []               # callables(board) after each tick
         self.pacer = None                 # real-time pacing, when set
+        self.refs = (0.0, 0.0)            # the PLL reference frequencies, Hz
+        self.due = None                   # the next interrupt (refresh_due)
         self._power_on_bios()
+
+    def attach(self, machine):
+        self.machine = machine
+        self.due = self.pcb.next_interrupt(self.pcb_time())
+        machine.attach(self)
 
     def _power_on_bios(self):
         self.set_vector(8, BIOS_SEG, BIOS_TIMER)
@@ -109,8 +116,11 @@ class SimBoard(Board):
             self._latch(port, byte, now)
         elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
             base = port & ~3
-            self._clock_ref(base, now)
+            if self.touches_counter0(port, byte):
+                self._clock_ref(base, now)
             self.chips[base].write(port & 3, byte)
+            if self.touches_counter0(port, byte):
+                self.refs = self.references()
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
@@ -120,10 +130,11 @@ class SimBoard(Board):
         now = self.sync()
         if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
             base = port & ~3
-            self._clock_ref(base, now)
+            if port & 3 == 0:
+                self._clock_ref(base, now)
             return self.chips[base].read(port & 3)
         if port == C.STATUS_PORT:
-            return self.drive.status_byte(*self.references())
+            return self.drive.status_byte(*self.refs)
         if port >= C.PCB_BASE:
             word = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             return word >> 8 if port & 1 else word & 0xFF
@@ -144,8 +155,7 @@ class SimBoard(Board):
 
     def _pcb_write(self, offset, word, now):
         self.pcb.write16(offset & 0xFF, word, self.pcb_time(now))
-        if self.machine is not None:
-            self.machine.reschedule()     # the next interrupt may have moved
+        self.refresh_due()                # the next interrupt may have moved
 
     def _latch(self, port, byte, now):
         if port == C.MOTOR_PORT:
@@ -157,6 +167,11 @@ class SimBoard(Board):
                 elif self.beeps:
                     self.beeps[-1][1] = now
             self.aux_latch = byte
+
+    @staticmethod
+    def touches_counter0(port, byte):
+        """A write to counter 0, or a control word selecting it (SC = 00)."""
+        return port & 3 == 0 or (port & 3 == 3 and not byte & 0xC0)
 
     def _clock_ref(self, base, now):
         """Bring counter 0 (the 125 kHz speed reference) up to now."""
@@ -175,25 +190,33 @@ class SimBoard(Board):
         now = self.machine.clock
         target = now // MS
         while self.physics_ms < target:
-            if self.idle():
+            if self.is_idle():
                 self.physics_ms = target
+                break
+            if self.drive.steady(self.motor_latch, self.aux_latch, *self.refs):
+                self.cruise(target - self.physics_ms)
                 break
             self.step_ms()
         self.clock = now
         return now
 
-    def idle(self):
+    def is_idle(self):
         """Nothing moves and nothing would start moving."""
         d, m = self.drive, self.motor_latch
         if d.left.rate or d.right.rate or self.aux_latch & (C.ARM_ON | C.GRIP_ON | C.BEEPER):
             return False
-        f_left, f_right = self.references()
+        f_left, f_right = self.refs
         return not ((m & C.M1_ON and m & C.M1_GO and f_left and not d.left.stalled)
                     or (m & C.M2_ON and m & C.M2_GO and f_right and not d.right.stalled))
 
-    def step_ms(self):
-        f_left, f_right = self.references()
-        (lf, lr), (rf, rr) = self.drive.step(self.motor_latch, self.aux_latch, f_left, f_right)
+    def cruise(self, n):
+        """n milliseconds of wheels at steady speed, at once."""
+        pulses = self.drive.cruise(n, self.motor_latch)
+        self.deliver(pulses)
+        self.physics_ms += n
+
+    def deliver(self, pulses):
+        (lf, lr), (rf, rr) = pulses
         left, right = self.chips[C.LEFT_8253].counters, self.chips[C.RIGHT_8253].counters
         if lf:
             left[1].clock(lf)
@@ -203,12 +226,19 @@ class SimBoard(Board):
             right[1].clock(rf)
         if rr:
             right[2].clock(rr)
+
+    def step_ms(self):
+        f_left, f_right = self.refs
+        self.deliver(self.drive.step(self.motor_latch, self.aux_latch, f_left, f_right))
         self.physics_ms += 1
 
     # -------------------------------------------------------- interrupts
-    @property
-    def due(self):
-        return self.pcb.next_interrupt(self.pcb_time())
+    def refresh_due(self):
+        """The next interrupt moves only when the PCB is written or serviced:
+        compute it then, not on every look."""
+        self.due = self.pcb.next_interrupt(self.pcb_time())
+        if self.machine is not None:
+            self.machine.reschedule()
 
     def pcb_time(self, now=None):
         """The clock to ask the PCB at: after batched ticks it may be ahead of
@@ -226,7 +256,7 @@ class SimBoard(Board):
             self.bios_tick(m)
             self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
             self.batch_idle_ticks(m)
-            nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
+            self.due = nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
             if nxt is not None and nxt < m.clock:
                 self.overruns += 1
             for observe in self.observers:
@@ -235,6 +265,9 @@ class SimBoard(Board):
                 self.pacer.wait(m.clock)
         elif kind is not None:
             self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
+            self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
+        else:
+            self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
 
     def batch_idle_ticks(self, m):
         """While the machine only waits and INT 1Ch does nothing, every tick

@@ -170,6 +170,24 @@ class Wheel:
         self.pos_frac = frac
         return NO_PULSES
 
+    def steady(self, on, rev, go, f_ref):
+        """Would a step leave the rate as it is (at its target, or at rest)?"""
+        if self.stalled:
+            return self.rate == 0.0
+        if on and go:
+            return self.rate == (-f_ref if rev else f_ref)
+        return self.rate == 0.0
+
+    def cruise(self, n, go, dt=C.SUB_STEP_S):
+        """n steps at the present, steady rate at once: (fwd, rev) pulses."""
+        self.go = go
+        if not self.rate:
+            self.travel = 0.0
+            return NO_PULSES
+        pulses = self._advance(self.rate * dt * n)
+        self.travel = self.rate * dt
+        return pulses
+
     def locked(self, f_ref):
         """PLL lock: GO set and |rate| within 5 % of f_ref."""
         return bool(self.go) and abs(abs(self.rate) - f_ref) <= self.LOCK_TOLERANCE * f_ref
@@ -342,6 +360,20 @@ class Robot:
         self._cos = math.cos(self.heading_rad)
         self._sin = math.sin(self.heading_rad)
 
+    def arc(self, s_left, s_right):
+        """Move along the exact arc (or line) of the wheels' travel, inches."""
+        ds = (s_left + s_right) * 0.5
+        if s_left == s_right:
+            self.x += ds * self._cos
+            self.y += ds * self._sin
+            return
+        turn = (s_right - s_left) / self.TRACK_IN
+        chord = ds * math.sin(turn / 2) / (turn / 2)
+        mid = self.heading_rad + turn * 0.5
+        self.x += chord * math.cos(mid)
+        self.y += chord * math.sin(mid)
+        self.heading = math.degrees(self.heading_rad + turn)
+
     def move(self, s_left, s_right):
         """Apply one sub-step of wheel travel in inches (forward positive)."""
         ds = (s_left + s_right) * 0.5
@@ -393,6 +425,24 @@ class Drive:
             self.robot.move(tl / cpi, tr / cpi)
         if aux_byte or self.beeper:
             self._step_aux(aux_byte, dt)
+        return lp, rp
+
+    def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
+        """Nothing but steady wheels: `cruise` may take many steps at once."""
+        m = motor_byte
+        return (not aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER) and not self.beeper
+                and self.left.steady(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
+                and self.right.steady(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right))
+
+    def cruise(self, n, motor_byte, dt=C.SUB_STEP_S):
+        """n sub-steps of steady wheels in closed form (see `steady`): the
+        same pulses and, along the exact arc, the same pose as n steps."""
+        lp = self.left.cruise(n, motor_byte & C.M1_GO, dt)
+        rp = self.right.cruise(n, motor_byte & C.M2_GO, dt)
+        tl, tr = self.left.rate * dt * n, self.right.rate * dt * n
+        if tl or tr:
+            cpi = self.COUNTS_PER_INCH
+            self.robot.arc(tl / cpi, tr / cpi)
         return lp, rp
 
     def _step_aux(self, aux_byte, dt):

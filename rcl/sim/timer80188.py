@@ -362,6 +362,8 @@ class Timer80188:
 
     def catch_up(self, now):
         """Bring every timer from self.clock up to `now` in O(1)."""
+        if now == self.clock:
+            return
         if now < self.clock:
             raise error("timer read at %d, before its clock %d" % (now, self.clock))
         base = self.clock // TIMER_CLOCK
