@@ -10,8 +10,12 @@ from rcl.forth.machine import Forth  # noqa: E402
 __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 
 
-def open(realtime=False, write=None):  # noqa: A001  (rcl.open, as DESIGN.md names it)
-    """A running system: a machine wired to a simulated board, with `.sim`
+SCREENS = __import__("os").path.join(__import__("os").path.dirname(__file__), "screens")
+
+
+def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's name)
+    """A running system: a machine wired to a simulated board with RCL
+    loaded and INSTALL run (screens=False: the board alone), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
     realtime=True the virtual clock keeps pace with the wall clock."""
     from rcl.sim.board import SimBoard
@@ -20,6 +24,8 @@ def open(realtime=False, write=None):  # noqa: A001  (rcl.open, as DESIGN.md nam
     board = SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
+    if screens:
+        m.include(__import__("os").path.join(SCREENS, "rcl.fs"))
     if realtime:
         board.pacer = Pacer(m.clock)
     return m

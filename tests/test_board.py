@@ -32,7 +32,7 @@ SPIN_CW = 0x3D                  # as BOTH_FORWARD, plus M2-REV
 
 @pytest.fixture
 def m():
-    m = rcl.open()
+    m = rcl.open(screens=False)
     m.evaluate(LAYER)
     return m
 
@@ -198,7 +198,7 @@ def test_beeper_intervals_are_recorded_in_seconds(m):
 def waiting_trace(busy):
     """Wheels moving, a Forth handler reading the encoders every tick, and
     the foreground waiting 3 s either by a busy loop or by skipping ahead."""
-    m = rcl.open()
+    m = rcl.open(screens=False)
     m.evaluate(LAYER)
     m.evaluate("2VARIABLE SEEN  : TICK  128 READ SEEN 2! ;"
                "  6667 SET-TIMER  ' TICK GET-CS 28 SET-INT")
@@ -218,7 +218,7 @@ def test_skipping_ahead_while_waiting_gives_the_same_ticks_as_a_busy_wait():
 
 
 def test_idle_waiting_counts_the_bios_ticks_exactly():
-    m = rcl.open()
+    m = rcl.open(screens=False)
     m.evaluate(": HOUR  60 0 DO 60000 MS LOOP ;  HOUR")
     assert m.sim.bios_ticks == 3600 * CLOCK_HZ // (36617 * 54_000)   # 65,543
 
@@ -255,7 +255,7 @@ def test_real_time_pace_sleeps_until_the_wall_clock_catches_up():
 
 
 def test_open_gives_a_machine_on_the_simulated_board_at_power_on():
-    m = rcl.open()
+    m = rcl.open(screens=False)
     assert m.sim.pose == (0.0, 0.0, 0.0)
     assert (m.sim.arm, m.sim.jaw, m.sim.wheel_counts) == (8.0, 0.0, (0, 0))
     assert m.evaluate("2 3 + .") == "5 "

@@ -253,3 +253,17 @@ class Outer:
         self.memory.store(self.a_blk, 0)
         self.masked = False
         self.reschedule()
+        self.safe_state()
+
+    def safe_state(self):
+        """After any error or Ctrl-C: the board's motors off, then the Forth
+        word ON-ABORT (RCL sets it to clear its relay shadow and move state)."""
+        self.board.stop_motors()
+        hit = self.dictionary.find("ON-ABORT")
+        if hit is not None:
+            try:
+                self.execute(hit[0])
+            except Exception:            # a broken hook must not hide the error
+                pass
+            del self.s[:]
+            del self.rs[:]

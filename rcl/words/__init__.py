@@ -2,4 +2,4 @@
 them all, in this order (the order fixes each primitive's number)."""
 from rcl.forth import inner  # noqa: F401  (runtimes and control words first)
 from rcl.words import core, double, compiling, io, parsing, tools, vocab  # noqa: F401
-from rcl.words import exceptions, blocks, files, system, ports  # noqa: F401
+from rcl.words import exceptions, blocks, files, system, ports, rclcode  # noqa: F401

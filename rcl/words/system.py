@@ -43,3 +43,10 @@ def ms(m):
 def clock_fetch(m):
     us = (m.clock * 1_000_000 // CLOCK_HZ) & 0xFFFFFFFF
     m.s.extend((us & MASK, us >> 16))
+
+
+@prim("HALT", "( -- ) wait for the next interrupt, as the 80188's HLT does", kind="call")
+def halt(m):
+    due = getattr(m.irq, "due", None) if m.irq is not None else None
+    if due is not None and not m.masked:
+        m.advance_to(max(m.clock, due))

@@ -1,0 +1,25 @@
+\ Layer 3, position counters: CODE words, as the article wrote them (they
+\ run inside the interrupt). Adds CNT-STATE INIT-COUNTERS ?CNT1 ?CNT2, and
+\ INSTALL UNINSTALL, which finish layer 2 once INIT-COUNTERS exists.
+\ Each 8253's counters 1 and 2 count a wheel's forward and reverse encoder
+\ pulses downward; the software extends them to 32 bits.
+\ The 80188 assembly of the original is a Python primitive here (CODE
+\ binds the name to it and skips the assembler text up to END-CODE).
+CREATE CNT-STATE  24 ALLOT  \ ( -- addr ) per wheel: previous counts, totals
+CODE INIT-COUNTERS  ( -- )  program both 8253s (counters 0 mode 3,
+   counters 1 and 2 mode 2 from 65536), zero the totals.
+END-CODE
+CODE ?CNT1  ( -- d )  latch counters 1 and 2 of the left 8253, add the
+   pulses since the last read to the totals, push forward - reverse.
+END-CODE
+CODE ?CNT2  ( -- d )  the same for the right wheel (motor 2).
+END-CODE
+
+: INSTALL  ( -- )   \ the control word runs every 10 ms from now on
+   INT-OFF  INIT-COUNTERS
+   USER-TICK GET-INT OLD-TICK 2!
+   ['] CONTROL GET-CS USER-TICK SET-INT
+   6667 SET-TIMER  RCL-RATE  INSTALLED ON  INT-ON ;
+: UNINSTALL  ( -- )   \ back to the BIOS's own tick
+   INT-OFF  STOP  OLD-TICK 2@ USER-TICK SET-INT
+   36617 SET-TIMER  BIOS-RATE  INSTALLED OFF  INT-ON ;

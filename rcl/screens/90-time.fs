@@ -1,0 +1,29 @@
+\ Layer 9, time: delays, the time of day, the beeper.
+\ Adds MS SECONDS MINUTES BEEP AM PM WAIT-UNTIL .TIME. Relies on TICKS@
+\ (layer 2) and the relay words. MS is Listing 3's calibrated loop
+\ `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word spends exactly that loop's
+\ virtual time, with every tick still serviced (f83-semantics.md 13).
+CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time.
+END-CODE
+: MS  ( milliseconds -- )   (MS) ;
+: SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;
+: MINUTES  ( minutes -- )   0 ?DO 60 SECONDS LOOP ;
+: BEEP  ( -- )   BEEP-ON 100 MS BEEP-OFF 100 MS ;   \ two BEEPs are two sounds
+
+\ The time of day is counted in 10 ms ticks since midnight once INSTALL
+\ has run: 1/10000 hour = 0.36 s = 36 ticks.
+: HOURS  ( frac int -- d )
+   DUP 0 13 WITHIN 0= ABORT" Bad time"  OVER 0< ABORT" Bad time"
+   >V4 36 1 M*/ ;
+: AM  ( num -- d )   FIXED  DUP 12 = IF DROP 0 THEN  HOURS ;   \ 12 AM is midnight
+: PM  ( num -- d )   FIXED  DUP 12 = >R HOURS R> 0= IF 4320000. D+ THEN ;
+
+CODE (SKIP-TO-TICK)  ( d -- )  let the clock run to that tick at once.
+END-CODE
+: WAIT-UNTIL  ( d -- )   \ until the time of day is exactly d (maybe tomorrow)
+   MOVING @ ARM-BITS @ OR 0= IF 2DUP (SKIP-TO-TICK) THEN   \ nothing moves
+   BEGIN 2DUP TICKS@ D= 0= WHILE HALT REPEAT 2DROP ;
+: .00  ( n -- )   0 <# # # #> TYPE ;
+: .TIME  ( -- )   \ hh:mm:ss
+   TICKS@ 100 MU/MOD ROT DROP  60 MU/MOD ROT >R  60 MU/MOD ROT >R  DROP
+   .00 [CHAR] : EMIT  R> .00 [CHAR] : EMIT  R> .00 SPACE ;

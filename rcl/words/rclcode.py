@@ -1,0 +1,100 @@
+"""The CODE words of RCL: what the article wrote in 80188 assembly because
+it runs inside the 10 ms interrupt (the position counters), plus the
+delays f83-semantics.md section 13 lets a VM provide as primitives.
+
+They stay out of the dictionary until an RCL screen binds them with
+`CODE name ... END-CODE`, as the original screens did.
+
+Counter state lives in memory, in the screen's `CNT-STATE` (12 bytes per
+wheel): previous forward and reverse counter values, then the 32-bit
+forward and reverse totals (high cell first, as 2! keeps them).
+"""
+from rcl.forth.memory import MASK
+from rcl.forth.primitives import CLOCK_HZ, prim
+
+BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
+CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 80188
+
+
+def state_addr(m):
+    hit = m.dictionary.find("CNT-STATE")
+    if hit is None:
+        from rcl.errors import ForthError
+        raise ForthError(-13, "?", "CNT-STATE")
+    return (hit[0] + 2) & MASK
+
+
+def read_counter(board, port):
+    return board.in8(port) | (board.in8(port) << 8)
+
+
+@prim("INIT-COUNTERS", "( -- ) program both 8253s (BH 5.2), zero the totals",
+      hidden=True, cost=CODE_COST)
+def init_counters(m):
+    b = m.board
+    for base in BASES:
+        for control, counter in ((0x36, 0), (0x74, 1), (0xB4, 2)):
+            b.out8(base + 3, control)
+            b.out8(base + counter, 0)
+            b.out8(base + counter, 0)
+    m.memory.write(state_addr(m), bytes(24))
+
+
+def read_position(m, wheel):
+    """Latch and read one wheel's counters, add the pulses since the last
+    read to the 32-bit totals; -> forward minus reverse, as a 32-bit value."""
+    b, base, mem = m.board, BASES[wheel], m.memory
+    b.out8(base + 3, 0x40)
+    b.out8(base + 3, 0x80)
+    now = (read_counter(b, base + 1), read_counter(b, base + 2))
+    a = state_addr(m) + 12 * wheel
+    totals = []
+    for i in range(2):
+        prev = mem.fetch(a + 2 * i)
+        lo, hi = mem.dfetch(a + 4 + 4 * i)
+        total = (((hi << 16) | lo) + ((prev - now[i]) & MASK)) & 0xFFFFFFFF
+        mem.store(a + 2 * i, now[i])
+        mem.dstore(a + 4 + 4 * i, total & MASK, total >> 16)
+        totals.append(total)
+    return (totals[0] - totals[1]) & 0xFFFFFFFF
+
+
+@prim("?CNT1", "( -- d ) motor 1 (left) position in encoder counts, + forward",
+      hidden=True, cost=CODE_COST)
+def q_cnt1(m):
+    d = read_position(m, 0)
+    m.s.extend((d & MASK, d >> 16))
+
+
+@prim("?CNT2", "( -- d ) motor 2 (right) position in encoder counts, + forward",
+      hidden=True, cost=CODE_COST)
+def q_cnt2(m):
+    d = read_position(m, 1)
+    m.s.extend((d & MASK, d >> 16))
+
+
+@prim("(MS)", "( n -- ) Listing 3's MS in virtual time: 37 primitives a "
+      "millisecond, interrupts stealing time as they would", hidden=True, kind="call")
+def paren_ms(m):
+    # : MS  0 ?DO 33 0 DO LOOP LOOP ;  costs 4 + 37n primitives; `: MS (MS) ;`
+    # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
+    n = m.s.pop()
+    m.spend(1 + 37 * n)
+
+
+@prim("(SKIP-TO-TICK)", "( d -- ) let the time of day run to BIOS tick d at once, "
+      "INT 1Ch idle (only when nothing moves)", hidden=True, kind="call")
+def skip_to_tick(m):
+    hi, lo = m.s.pop(), m.s.pop()
+    skip = getattr(m.board, "skip_to_tick", None)
+    if skip is not None:
+        skip((hi << 16) | lo)
+
+
+@prim("TICKS!", "( d -- ) set the time of day, in BIOS ticks since midnight",
+      hidden=True, kind="call")
+def ticks_store(m):
+    hi, lo = m.s.pop(), m.s.pop()
+    for i, byte in enumerate(((hi << 16) | lo).to_bytes(4, "little")):
+        m.board.far_store8(0x40, 0x6C + i, byte)
+
