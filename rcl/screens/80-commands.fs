@@ -52,8 +52,8 @@ CREATE ARM-MOVES
    GRIP-ON GRIP-CLOSE OR ,   8 ,  200 ,  6 ,     \ CLOSE  until GRIP-CLOSED
 : ARM-MOVE  ( cmd# -- addr )   4 - 8 * ARM-MOVES + ;
 : ARM-TICKS  ( cmd# -- ticks )   \ the pending distance as ticks of that motor
-   PENDING 2@ PENDING-UNIT @ 2 = IF 12 ELSE 1 THEN
-   ROT ARM-MOVE 4 + @ *  10000 R*/ DROP ;
+   >R  PENDING 2@  PENDING-UNIT @ 2 = IF 12 ELSE 1 THEN   ( d inches-per-unit )
+   R> ARM-MOVE 4 + @ *  10000 R*/ DROP ;
 : WAIT-ARM  ( -- )   BEGIN ARM-BITS @ WHILE HALT REPEAT ;
 : (ARM-MOVE)  ( cmd# -- )   \ 4 up 5 down 6 open 7 close
    INSTALLED @ 0= ABORT" Not installed"
