@@ -120,6 +120,8 @@ class Forth(Inner, Outer):
         mem.store(self.a_warning, MASK)
         mem.store(self.a_fence, d.here)
         self.invalidate()
+        self.clock = 0                     # power-on: a copied image starts at 0 too
+        self.reschedule()
 
     # -------------------------------------------------------------- caches
     def compile(self, addr):

@@ -12,6 +12,9 @@
 \ Both wheels share the speed: they run the same profile until they stop.
 VARIABLE MOVING      \ a base move is under way
 VARIABLE SPEED-NOW   \ crpm commanded now
+VARIABLE STEP-NOW    \ the crpm its 8253 count really makes (EXPACC's step)
+VARIABLE BOTH        \ both wheels still moving
+VARIABLE HOLD        \ a wheel stopped this tick: the other keeps its speed
 2VARIABLE EXPACC     \ the sum of the speeds commanded, tick by tick (crpm)
 VARIABLE ARM-BITS    \ relay bits of the arm or gripper move under way, or 0
 VARIABLE ARM-BUDGET  \ ticks left for it
@@ -28,15 +31,16 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
 : SEND  ( u port -- )   >R  DUP 255 AND R@ PC!  8 RSHIFT R> PC! ;
 : SET-SPEED  ( v -- )   \ command speed v to the moving wheels
    DUP SPEED-NOW !  >REF
-   WHEEL1 @ WHEEL2 @ AND IF              \ both: LSBs, then MSBs
+   BOTH @ IF                             \ both: LSBs, then MSBs
       DUP 255 AND DUP LEFT-8253 PC! RIGHT-8253 PC!
       DUP 8 RSHIFT DUP LEFT-8253 PC! RIGHT-8253 PC!
    ELSE  WHEEL1 @ IF DUP LEFT-8253 SEND THEN  WHEEL2 @ IF DUP RIGHT-8253 SEND THEN
-   THEN  STEP 0 EXPACC 2@ D+ EXPACC 2! ;
+   THEN  STEP DUP STEP-NOW !  0 EXPACC 2@ D+ EXPACC 2! ;
 : STOPPED  ( rec -- )   \ this wheel has arrived: its relays off (braked);
    \ one MOTOR latch write, as STOP-LEFT or STOP-RIGHT would make it
    >R  R@ >KEEP + @ RELAYS @ AND DUP RELAYS ! MOTOR-PORT PC!
-   R> >MOVING + OFF  WHEEL1 @ WHEEL2 @ OR 0= IF MOVING OFF THEN ;
+   R> >MOVING + OFF  BOTH OFF  HOLD ON
+   WHEEL1 @ WHEEL2 @ OR 0= IF MOVING OFF THEN ;
 : FOLLOWING-ERROR  ( rec -- )   \ it cannot follow: stop everything
    DUP WHEEL1 = IF 1 ELSE 2 THEN FERR !  DROP  STOP
    WHEEL1 >MOVING + OFF  WHEEL2 >MOVING + OFF  MOVING OFF ;
@@ -52,13 +56,20 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
       ARM-BITS @ DISABLE  ARM-BITS OFF
    THEN ;
 \ Written for its cost, one primitive at a time (27.8 us each): with both
-\ wheels moving a tick must stay under half of its 10 ms.
+\ wheels moving a tick must stay under half of its 10 ms. So the tick
+\ that stops one wheel does not also step the other's speed: that wheel
+\ keeps its speed (and EXPACC its step) one tick longer, 0.1 count at
+\ 0.1 G. Arm moves never overlap base moves (commands wait), so the arm
+\ is looked after in the ticks between base moves.
 : (CONTROL)  ( -- )   \ the control word, every 10 ms
    MOVING @ IF
       EXPACC 2@ 1200 MU/MOD ROT DROP            ( dq )
       WHEEL1 @ IF WHEEL1 CHECK-WHEEL THEN
       WHEEL2 @ IF WHEEL2 CHECK-WHEEL THEN
+      HOLD @ IF  HOLD OFF 2DROP  STEP-NOW @ 0 EXPACC 2@ D+ EXPACC 2!  EXIT THEN
       MOVING @ IF NEW-SPEED SET-SPEED ELSE 2DROP THEN
-   ELSE  WHEEL1 READ-POS 2DROP  WHEEL2 READ-POS 2DROP  THEN
-   ARM-BITS @ IF ARM-TICK THEN ;
+   ELSE
+      WHEEL1 READ-POS 2DROP  WHEEL2 READ-POS 2DROP
+      ARM-BITS @ IF ARM-TICK THEN
+   THEN ;
 ' (CONTROL) IS CONTROL

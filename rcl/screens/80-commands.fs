@@ -28,7 +28,8 @@ CREATE SIGNS   1 , 1 ,   -1 , -1 ,   -1 , 1 ,   1 , -1 ,   \ left, right
 : START  ( dir -- )   \ both wheels set off on a new move
    4 * SIGNS +  DUP @ WHEEL1 >DIR + !  2+ @ WHEEL2 >DIR + !
    WHEEL1 READ-POS WHEEL1 >START + 2!  WHEEL2 READ-POS WHEEL2 >START + 2!
-   0. EXPACC 2!  0 SPEED-NOW !  WHEEL1 >MOVING + ON  WHEEL2 >MOVING + ON ;
+   0. EXPACC 2!  0 SPEED-NOW !  HOLD OFF  BOTH ON
+   WHEEL1 >MOVING + ON  WHEEL2 >MOVING + ON ;
 
 DEFER MOVED  ( -- )   \ after each base move (the status layer's odometry)
 ' NOOP IS MOVED

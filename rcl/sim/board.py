@@ -66,6 +66,7 @@ class SimBoard(Board):
         self.pacer = None                 # real-time pacing, when set
         self.refs = (0.0, 0.0)            # the PLL reference frequencies, Hz
         self.quiet = False                # INT 1Ch skipped (skip_to_tick)
+        self.handler_cost = None          # clock units the last INT 1Ch handler took
         self.due = None                   # the next interrupt (refresh_due)
         self._power_on_bios()
 
@@ -296,7 +297,9 @@ class SimBoard(Board):
         self.low_store32(TICKS_ADDR, count)
         seg, off = self.vector(0x1C)
         if seg == FORTH_CS and not self.quiet:
+            start = m.clock
             m.run_handler(off)
+            self.handler_cost = m.clock - start
 
     def skip_to_tick(self, target):
         """Let the time of day run until the BIOS count reaches target, with
@@ -315,6 +318,48 @@ class SimBoard(Board):
         finally:
             self.quiet = False
         self.sync()
+
+    def repeat_idle_ticks(self, n, c):
+        """The foreground spends n primitives of c clock units while every
+        tick's handler would take the same path and the same time as the
+        last one (the caller knows it does: nothing moves and the handler
+        only reads). Count it out tick by tick in arithmetic instead of
+        running it: the same clock, BIOS count and timer state. Returns the
+        primitives left (0, or all of n when it cannot)."""
+        m, t0 = self.machine, self.pcb.timers[0]
+        cost, d = self.handler_cost, self.due
+        period = t0.limit() * (54_000 if t0.control & 0x0008 else 18_000)
+        if cost is None or d is None or cost >= period or self.observers \
+                or self.pacer is not None or not self.is_idle():
+            return n
+        clock, ticks, last = m.clock, 0, None
+        limit = min(m.clock_limit, m.hk_next + 10 ** 18)
+        while n > 0:
+            k = max(0, -(-(d - clock) // c))      # primitives until the tick
+            if k >= n:
+                clock += n * c
+                n = 0
+                break
+            if clock + k * c + cost >= limit:
+                break
+            clock += k * c + cost                 # run up to it, then the handler
+            n -= k
+            ticks, last, d = ticks + 1, d, d + period
+        if ticks:
+            self.pcb.take_timer0_requests(last)
+            self.pcb.acknowledge(last)
+            self.pcb.write16(0x22, EOI_TIMER, last)
+            self.ticks += ticks
+            per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
+            count = self.low_fetch32(TICKS_ADDR) + ticks
+            if count >= per_day:
+                self.low[MIDNIGHT_ADDR] = 1
+            self.low_store32(TICKS_ADDR, count % per_day)
+        m.clock = max(m.clock, clock)
+        self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
+        m.reschedule()
+        self.sync()
+        return n
 
     def stop_motors(self):
         """Safe state: every relay open (wheels braked, arm and gripper off)."""

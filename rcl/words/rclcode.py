@@ -10,6 +10,7 @@ wheel): previous forward and reverse counter values, then the 32-bit
 forward and reverse totals (high cell first, as 2! keeps them).
 """
 from rcl.forth.memory import MASK
+from rcl.forth.inner import DOCOL
 from rcl.forth.primitives import CLOCK_HZ, prim
 
 BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
@@ -73,13 +74,37 @@ def q_cnt2(m):
     m.s.extend((d & MASK, d >> 16))
 
 
+def quiet(m):
+    """Nothing under way that the control word would act on."""
+    fetch, find = m.memory.fetch, m.dictionary.find
+    return all(fetch((find(name)[0] + 2) & MASK) == 0 for name in ("MOVING", "ARM-BITS"))
+
+
 @prim("(MS)", "( n -- ) Listing 3's MS in virtual time: 37 primitives a "
       "millisecond, interrupts stealing time as they would", hidden=True, kind="call")
 def paren_ms(m):
     # : MS  0 ?DO 33 0 DO LOOP LOOP ;  costs 4 + 37n primitives; `: MS (MS) ;`
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
-    n = m.s.pop()
-    m.spend(1 + 37 * n)
+    n = 1 + 37 * m.s.pop()
+    c = m.cost[DOCOL]
+    repeat = getattr(m.board, "repeat_idle_ticks", None)
+    if repeat is not None:
+        m.board.handler_cost = None       # trust only a tick timed in this wait
+    while n > 0:
+        if repeat is not None and quiet(m):
+            ticks_before = m.board.ticks
+            left = repeat(n, c)
+            if left == 0:
+                return
+            if m.board.ticks != ticks_before:
+                n = left
+                continue
+        # one tick's worth the ordinary way (it also times the handler)
+        k = min(n, max(1, -(-(int(m.deadline) - m.clock) // c)))
+        m.spend(k)
+        n -= k
+        if n and m.clock >= m.deadline:
+            m.housekeep()
 
 
 @prim("(SKIP-TO-TICK)", "( d -- ) let the time of day run to BIOS tick d at once, "
