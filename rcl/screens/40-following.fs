@@ -14,8 +14,8 @@
 LEFT-8253 ' ?CNT1 M1-ON M1-GO OR NOT WHEEL: WHEEL1      \ motor 1, the left wheel
 RIGHT-8253 ' ?CNT2 M2-ON M2-GO OR NOT WHEEL: WHEEL2     \ motor 2, the right wheel
 : >WHEEL  ( motor# -- rec )   1 = IF WHEEL1 ELSE WHEEL2 THEN ;
-: POS1  ( -- addr )   WHEEL1 >POS + ;     \ positions read last
-: POS2  ( -- addr )   WHEEL2 >POS + ;
+WHEEL1 >POS + CONSTANT POS1   \ ( -- addr ) the positions read last
+WHEEL2 >POS + CONSTANT POS2
 
 VARIABLE FERR-LIMIT   100 FERR-LIMIT !    \ counts (3.5 in) of allowed lag
 VARIABLE FERR         \ 0 none, else the motor# that could not follow

@@ -18,10 +18,13 @@ CREATE SPEED-RATIOS   3 , 5 ,   3 , 88 ,   9 , 22 ,   3 , 440 ,
 : SPEED  ( -- c )   \ the base's maximum speed in crpm, 1 to 30000
    SPEED-V4 2@ SPEED-UNIT @ SPEED-RATIOS RATIO R*/
    30000. DMIN DROP 1 MAX ;
-: >REF  ( c -- u )   \ 8253 count round(1,500,000 / c), at least 50
-   >R 3000000. R@ 0 D+ R> 2* UM/MOD NIP 50 MAX ;
+: (>REF)  ( c -- u )   \ round(1,500,000 / c) for 1 <= c <= 30000 (CONTROL's)
+   >R 3000000. R@ 0 D+ R> 2* UM/MOD NIP ;
 \ Below 23 crpm the count would pass 65536: UM/MOD's no-trap overflow
-\ (F83) gives 65535 then, as good as the slowest count.
+\ (F83) gives 65535 then, as good as the slowest count. The word for
+\ users clamps as the reference says: 50 to 65536, 65536 written as 0.
+: >REF  ( c -- u )   \ 8253 count for speed c crpm
+   DUP 23 U< IF DROP 0 EXIT THEN  DUP 30000 U> IF DROP 30000 THEN  (>REF) ;
 
 : DSQRT  ( ud -- u )   \ integer square root: Newton's method from above
    65535 BEGIN                         ( ud x )

@@ -14,7 +14,7 @@ VARIABLE MOVING      \ a base move is under way
 VARIABLE SPEED-NOW   \ crpm commanded now
 VARIABLE STEP-NOW    \ the crpm its 8253 count really makes (EXPACC's step)
 VARIABLE BOTH        \ both wheels still moving
-VARIABLE HOLD        \ a wheel stopped this tick: the other keeps its speed
+VARIABLE SPEED-HELD  \ a wheel stopped this tick: the other keeps its speed
 2VARIABLE EXPACC     \ the sum of the speeds commanded, tick by tick (crpm)
 VARIABLE ARM-BITS    \ relay bits of the arm or gripper move under way, or 0
 VARIABLE ARM-BUDGET  \ ticks left for it
@@ -30,7 +30,7 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
    SPEED-NOW @ ACCEL @ -  V-CREEP TOP-SPEED @ MIN  MAX ;
 : SEND  ( u port -- )   >R  DUP 255 AND R@ PC!  8 RSHIFT R> PC! ;
 : SET-SPEED  ( v -- )   \ command speed v to the moving wheels
-   DUP SPEED-NOW !  >REF
+   DUP SPEED-NOW !  (>REF)
    BOTH @ IF                             \ both: LSBs, then MSBs
       DUP 255 AND DUP LEFT-8253 PC! RIGHT-8253 PC!
       DUP 8 RSHIFT DUP LEFT-8253 PC! RIGHT-8253 PC!
@@ -39,7 +39,7 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
 : STOPPED  ( rec -- )   \ this wheel has arrived: its relays off (braked);
    \ one MOTOR latch write, as STOP-LEFT or STOP-RIGHT would make it
    >R  R@ >KEEP + @ RELAYS @ AND DUP RELAYS ! MOTOR-PORT PC!
-   R> >MOVING + OFF  BOTH OFF  HOLD ON
+   R> >MOVING + OFF  BOTH OFF  SPEED-HELD ON
    WHEEL1 @ WHEEL2 @ OR 0= IF MOVING OFF THEN ;
 : FOLLOWING-ERROR  ( rec -- )   \ it cannot follow: stop everything
    DUP WHEEL1 = IF 1 ELSE 2 THEN FERR !  DROP  STOP
@@ -66,10 +66,10 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
       EXPACC 2@ 1200 MU/MOD ROT DROP            ( dq )
       WHEEL1 @ IF WHEEL1 CHECK-WHEEL THEN
       WHEEL2 @ IF WHEEL2 CHECK-WHEEL THEN
-      HOLD @ IF  HOLD OFF 2DROP  STEP-NOW @ 0 EXPACC 2@ D+ EXPACC 2!  EXIT THEN
+      SPEED-HELD @ IF  SPEED-HELD OFF 2DROP  STEP-NOW @ 0 EXPACC 2@ D+ EXPACC 2!  EXIT THEN
       MOVING @ IF NEW-SPEED SET-SPEED ELSE 2DROP THEN
-   ELSE
-      WHEEL1 READ-POS 2DROP  WHEEL2 READ-POS 2DROP
+   ELSE                                          \ between moves: lean
+      ?CNT1 POS1 2!  ?CNT2 POS2 2!
       ARM-BITS @ IF ARM-TICK THEN
    THEN ;
 ' (CONTROL) IS CONTROL

@@ -1,6 +1,6 @@
 \ Layer 8, command language: [DEVICE] [n SPEED] [n DISTANCE] COMMAND.
 \ Adds RERB ARM FORWARD BACKWARD LEFT RIGHT UP DOWN OPEN CLOSE, and under
-\ them DEVICE LAST TAKE (MOVE) (ARM-MOVE) (SAFE). Relies on layers 1-7.
+\ them DEVICE LAST-DISTANCE TAKE (MOVE) (ARM-MOVE) (SAFE). Relies on layers 1-7.
 \ Optional parameters (rcl-words.md section 3): a distance waits in
 \ PENDING for the next command; with none, a command reuses its own last
 \ distance, first its default. Speed and G persist until changed.
@@ -11,14 +11,14 @@ VARIABLE DEVICE   1 DEVICE !     \ 1 the base (RERB), 2 the arm
 \ Commands: 0 FORWARD 1 BACKWARD 2 LEFT 3 RIGHT 4 UP 5 DOWN 6 OPEN 7 CLOSE.
 \ Each keeps its last distance: V4 (a double) and unit, 6 bytes.
 CREATE LASTS  48 ALLOT
-: LAST  ( cmd# -- addr )   6 * LASTS + ;
-: DEFAULT  ( V4 unit cmd# -- )   LAST >R  R@ 4 + !  R> 2! ;
+: LAST-DISTANCE  ( cmd# -- addr )   6 * LASTS + ;
+: DEFAULT  ( V4 unit cmd# -- )   LAST-DISTANCE >R  R@ 4 + !  R> 2! ;
  10000. 2 0 DEFAULT   10000. 2 1 DEFAULT      \ 1 FEET
 900000. 4 2 DEFAULT  900000. 4 3 DEFAULT      \ 90 DEGREES
  10000. 1 4 DEFAULT   10000. 1 5 DEFAULT      \ 1 INCHES
  30000. 1 6 DEFAULT   30000. 1 7 DEFAULT      \ 3 INCHES: full jaw travel
 : TAKE  ( cmd# -- )   \ PENDING: the distance given, else the last one
-   LAST  PENDING-UNIT @ IF
+   LAST-DISTANCE  PENDING-UNIT @ IF
       PENDING 2@ 2 PICK 2!  PENDING-UNIT @ SWAP 4 + !
    ELSE  DUP 2@ PENDING 2!  4 + @ PENDING-UNIT !  THEN ;
 
@@ -28,7 +28,7 @@ CREATE SIGNS   1 , 1 ,   -1 , -1 ,   -1 , 1 ,   1 , -1 ,   \ left, right
 : START  ( dir -- )   \ both wheels set off on a new move
    4 * SIGNS +  DUP @ WHEEL1 >DIR + !  2+ @ WHEEL2 >DIR + !
    WHEEL1 READ-POS WHEEL1 >START + 2!  WHEEL2 READ-POS WHEEL2 >START + 2!
-   0. EXPACC 2!  0 SPEED-NOW !  HOLD OFF  BOTH ON
+   0. EXPACC 2!  0 SPEED-NOW !  SPEED-HELD OFF  BOTH ON
    WHEEL1 >MOVING + ON  WHEEL2 >MOVING + ON ;
 
 DEFER MOVED  ( -- )   \ after each base move (the status layer's odometry)

@@ -1,10 +1,10 @@
 \ Status words: where the robot is by its wheels' counts, and the settings.
-\ Adds X Y HEADING ODOMETRY .POSE .SETTINGS. Relies on layers 1-9.
+\ Adds POSE-X POSE-Y POSE-HEADING ODOMETRY .POSE .SETTINGS. Relies on layers 1-9.
 \ Dead reckoning after each base move (and at .POSE): from the counts the
 \ wheels moved since the last time, a straight move or a spin (the only
 \ moves RCL makes; a wheel's run-on after a move counts with it). Position in
 \ thousandths of an inch, heading in tenths of a degree, 0 to 3599.
-2VARIABLE X   2VARIABLE Y   VARIABLE HEADING
+2VARIABLE POSE-X   2VARIABLE POSE-Y   VARIABLE POSE-HEADING
 2VARIABLE ODO-L   2VARIABLE ODO-R    \ the counts the pose was last brought to
 CREATE SINES    \ sin of 0 to 90 degrees, x 10000
    0 , 175 , 349 , 523 , 698 , 872 , 1045 , 1219 , 1392 , 1564 , 1736 , 1908 , 2079 ,
@@ -27,14 +27,14 @@ CREATE SINES    \ sin of 0 to 90 degrees, x 10000
    2OVER 2OVER 2SWAP D- 36 25 R*/ 3600 M/MOD DROP           ( dL dR turn )
    DUP 1800 > IF 3600 - THEN                                 \ -1800 .. 1800
    >R D+ 176 10 R*/                                          ( mils ) ( R: turn )
-   HEADING @ R@ 2/ + 3600 + 3600 MOD                          ( mils mid )
-   >R 2DUP R@ COS SCALED X 2@ D+ X 2!  R> SIN SCALED Y 2@ D+ Y 2!
-   HEADING @ R> + 3600 + 3600 MOD HEADING ! ;
+   POSE-HEADING @ R@ 2/ + 3600 + 3600 MOD                          ( mils mid )
+   >R 2DUP R@ COS SCALED POSE-X 2@ D+ POSE-X 2!  R> SIN SCALED POSE-Y 2@ D+ POSE-Y 2!
+   POSE-HEADING @ R> + 3600 + 3600 MOD POSE-HEADING ! ;
 ' ODOMETRY IS MOVED
 : .HUNDREDTHS  ( d -- )   TUCK DABS <# # # [CHAR] . HOLD #S ROT SIGN #> TYPE ;
 : .POSE  ( -- )   \ x and y in inches, heading in degrees
-   ODOMETRY  ." x " X 2@ 1 10 R*/ .HUNDREDTHS  ."  in  y " Y 2@ 1 10 R*/ .HUNDREDTHS
-   ."  in  heading " HEADING @ 0 <# # [CHAR] . HOLD #S #> TYPE ."  deg " ;
+   ODOMETRY  ." x " POSE-X 2@ 1 10 R*/ .HUNDREDTHS  ."  in  y " POSE-Y 2@ 1 10 R*/ .HUNDREDTHS
+   ."  in  heading " POSE-HEADING @ 0 <# # [CHAR] . HOLD #S #> TYPE ."  deg " ;
 : .V4  ( d -- )   TUCK DABS <# # # # # [CHAR] . HOLD #S ROT SIGN #> TYPE ;
 : .UNIT  ( unit -- )
    CASE 1 OF ." INCHES" ENDOF 2 OF ." FEET" ENDOF 3 OF ." MILES" ENDOF
@@ -47,5 +47,5 @@ CREATE SINES    \ sin of 0 to 90 degrees, x 10000
    ." device " DEVICE @ 1 = IF ." RERB" ELSE ." ARM" THEN
    ."   speed " SPEED . ." crpm (8253 count " SPEED >REF U. ." )  accel "
    ACCEL ? ." crpm/tick  following limit " FERR-LIMIT ? ." counts"
-   8 0 DO  CR 2 SPACES I .COMMAND SPACE I LAST DUP 2@ .V4 SPACE 4 + @ .UNIT  LOOP
+   8 0 DO  CR 2 SPACES I .COMMAND SPACE I LAST-DISTANCE DUP 2@ .V4 SPACE 4 + @ .UNIT  LOOP
    SPACE ;
