@@ -205,6 +205,7 @@ class Forth(Inner, Outer):
             f = open(path, encoding="latin-1")
         except OSError:
             raise ForthError(-38, "File not found", path) from None
+        self.included.add(os.path.abspath(path))     # as INCLUDE does: REQUIRE sees it
         with f:
             lines = (line.rstrip("\r\n") for line in f)
             return self.guarded(lambda: self.include_lines(lines, path))
