@@ -40,7 +40,6 @@ the next call). A definition already running finishes in its old form.
 """
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
 from rcl.forth.primitives import DEFAULT_COST, REGISTRY
-from rcl.forth import inner
 from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args, rt_push
 
 DOCOL_N = N["(DOCOL)"]

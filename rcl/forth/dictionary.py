@@ -240,10 +240,9 @@ class Dictionary:
         return lfa - 1 - (self.memory.mem[(lfa - 1) & MASK] & 0x1F)
 
     def restore_marker(self, body):
-        """A MARKER's body: saved HERE, CURRENT, the order, every list head."""
-        fetch, m = self.memory.fetch, self.m
-        saved_here = fetch(body)
-        self.forget_to(saved_here)
+        """A MARKER's body holds HERE before its own header: forget back to it
+        (word lists, search order and CURRENT are pruned as FORGET does)."""
+        self.forget_to(self.memory.fetch(body))
 
     def new_wordlist(self):
         """Allot a word list (head cell + VOC-LINK cell); -> wid."""

@@ -32,7 +32,7 @@ import math
 
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, PRIM_LIMIT
-from rcl.forth.primitives import DEFAULT_COST, REGISTRY, prim
+from rcl.forth.primitives import REGISTRY, prim
 
 SENTINEL = 0                 # return address meaning "back to Python"
 STACK_CELLS = 1000           # data stack limit (Stack Overflow beyond)

@@ -6,10 +6,8 @@ concatenation of blocks; a plain-text file (one with newlines) is read as
 screens too, each line padded or cut to 64 columns, 16 lines a block.
 Block 0 can never be loaded (BLK = 0 means the terminal).
 """
-import os
-
 from rcl.errors import ForthError
-from rcl.forth.memory import BLOCK_BUFFERS, MASK, signed
+from rcl.forth.memory import BLOCK_BUFFERS, signed
 from rcl.forth.outer import Source
 from rcl.forth.primitives import prim
 from rcl.words.compiling import parse_word

@@ -11,7 +11,7 @@ forward and reverse totals (high cell first, as 2! keeps them).
 """
 from rcl.forth.memory import MASK
 from rcl.forth.inner import DOCOL
-from rcl.forth.primitives import CLOCK_HZ, prim
+from rcl.forth.primitives import prim
 
 BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
 CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 80188
@@ -114,12 +114,3 @@ def skip_to_tick(m):
     skip = getattr(m.board, "skip_to_tick", None)
     if skip is not None:
         skip((hi << 16) | lo)
-
-
-@prim("TICKS!", "( d -- ) set the time of day, in BIOS ticks since midnight",
-      hidden=True, kind="call")
-def ticks_store(m):
-    hi, lo = m.s.pop(), m.s.pop()
-    for i, byte in enumerate(((hi << 16) | lo).to_bytes(4, "little")):
-        m.board.far_store8(0x40, 0x6C + i, byte)
-

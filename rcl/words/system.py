@@ -2,7 +2,6 @@
 from rcl.errors import Bye
 from rcl.forth.memory import MASK
 from rcl.forth.primitives import CLOCK_HZ, prim
-from rcl.words.io import transient
 
 ENVIRONMENT = {
     "/COUNTED-STRING": [255], "/HOLD": [255], "/PAD": [84],

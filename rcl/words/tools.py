@@ -3,7 +3,6 @@
 SEE decompiles threaded code back to Forth: branches become IF ELSE THEN,
 BEGIN UNTIL / AGAIN / WHILE REPEAT, DO LOOP, and literals their numbers.
 """
-from rcl.errors import ForthError
 from rcl.forth import inner
 from rcl.forth.compiler import decode
 from rcl.forth.dictionary import IMMEDIATE
