@@ -102,7 +102,7 @@ def make_machine(args, write):
     unless --bare asks for plain Forth."""
     if args.bare:
         return rcl.Forth(write=write)
-    return rcl.open(write=write)
+    return rcl.open(write=write, realtime=args.realtime)
 
 
 def describe(args):
@@ -120,6 +120,8 @@ def parse_args(argv):
                    help="Forth words to run after the files (may repeat)")
     p.add_argument("--bare", action="store_true",
                    help="a bare F83 machine, no board and no RCL screens")
+    p.add_argument("--realtime", action="store_true",
+                   help="the simulated robot keeps pace with the wall clock")
     p.add_argument("--version", action="version", version="rcl " + version())
     return p.parse_intermixed_args(argv)
 

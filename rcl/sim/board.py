@@ -302,21 +302,26 @@ class SimBoard(Board):
             self.handler_cost = m.clock - start
 
     def skip_to_tick(self, target):
-        """Let the time of day run until the BIOS count reaches target, with
-        INT 1Ch idle: for a program that only waits while nothing moves (its
-        tick handler would find nothing to do). Exact: the count, the timer
-        and the clock end where ticking through would have left them."""
+        """Let the time of day run until the BIOS count is one short of
+        target, with INT 1Ch idle but for that last tick: for a program that only waits
+        while nothing moves (its tick handler would find nothing to do).
+        The count, the timer and the clock end where ticking through would
+        have left them; only the handler's idle runs are not made."""
         m, t0 = self.machine, self.pcb.timers[0]
         per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
         n = (target - self.low_fetch32(TICKS_ADDR)) % per_day
-        if n == 0 or self.due is None:
+        if n < 2 or self.due is None:
             return
+        # Stop one tick short, that tick run as usual: the waiting loop
+        # takes the last one itself, exactly as it would have.
         period = t0.limit() * (54_000 if t0.control & 0x0008 else 18_000)
+        last = max(m.clock, self.due) + (n - 2) * period
         self.quiet = True
         try:
-            m.advance_to(max(m.clock, self.due) + (n - 1) * period)
+            m.advance_to(last - 1)            # every tick but the last, INT 1Ch idle
         finally:
             self.quiet = False
+        m.advance_to(last)                    # the last one as usual
         self.sync()
 
     def repeat_idle_ticks(self, n, c):

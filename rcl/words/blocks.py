@@ -105,6 +105,12 @@ def bf(m):
     return m.blocks
 
 
+def need(m, n):
+    """F83's check in THRU, LIST, LOAD and friends."""
+    if len(m.s) < n:
+        raise ForthError(-258, "Not enough Parameters")
+
+
 @prim("USING", "( -- ) open the block file named next")
 def using(m):
     name = parse_word(m)
@@ -116,11 +122,13 @@ def using(m):
 
 @prim("BLOCK", "( n -- addr ) the buffer holding block n")
 def block(m):
+    need(m, 1)
     m.s.append(bf(m).block(m.s.pop()))
 
 
 @prim("BUFFER", "( n -- addr ) a buffer for block n, not read")
 def buffer(m):
+    need(m, 1)
     m.s.append(bf(m).buffer(m.s.pop()))
 
 
@@ -147,11 +155,13 @@ def empty_buffers(m):
 
 @prim("LOAD", "( n -- ) interpret block n", kind="call")
 def load(m):
+    need(m, 1)
     bf(m).load(m.s.pop())
 
 
 @prim("THRU", "( first last -- ) load a range of blocks", kind="call")
 def thru(m):
+    need(m, 2)
     last, first = m.s.pop(), m.s.pop()
     for n in range(first, last + 1):
         bf(m).load(n)
@@ -160,6 +170,7 @@ def thru(m):
 @prim("+THRU", "( lo hi -- ) load blocks relative to the one being loaded",
       kind="call")
 def plus_thru(m):
+    need(m, 2)
     hi, lo = m.s.pop(), m.s.pop()
     base = m.memory.fetch(m.a_blk)
     for n in range(base + signed(lo), base + signed(hi) + 1):
@@ -177,6 +188,7 @@ def next_block(m):
 
 @prim("LIST", "( n -- ) show screen n")
 def list_(m):
+    need(m, 1)
     n = m.s.pop()
     a = bf(m).block(n)
     m.memory.store(m.a_scr, n)
@@ -188,6 +200,7 @@ def list_(m):
 
 @prim("INDEX", "( first last -- ) line 0 of each screen")
 def index(m):
+    need(m, 2)
     last, first = m.s.pop(), m.s.pop()
     for n in range(first, min(last, bf(m).count - 1) + 1):
         m.type("\n%3d %s" % (n, m.memory.text(bf(m).block(n), 64).rstrip()))
