@@ -255,10 +255,12 @@ class SimBoard(Board):
         kind = self.pcb.acknowledge(self.pcb_time(now))
         if kind == C.VECTOR_TIMER0:
             self.ticks += 1
+            nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
             self.bios_tick(m)
             self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
-            self.batch_idle_ticks(m)
-            self.due = nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
+            if self.batch_idle_ticks(m):
+                nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
+            self.due = nxt
             if nxt is not None and nxt < m.clock:
                 self.overruns += 1
             for observe in self.observers:
@@ -275,18 +277,21 @@ class SimBoard(Board):
         """While the machine only waits and INT 1Ch does nothing, every tick
         up to the end of the wait would just count: count them at once.
         (Each would have run at its own time with the same result.)"""
+        self.batched = False
         target = m.waiting_until
         if target is None or self.observers or self.pacer is not None \
                 or (self.vector(0x1C)[0] == FORTH_CS and not self.quiet):
-            return
+            return False
         n = self.pcb.take_timer0_requests(target)
         if n:
+            self.batched = True
             self.ticks += n
             per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
             count = self.low_fetch32(TICKS_ADDR) + n
             if count >= per_day:
                 self.low[MIDNIGHT_ADDR] = 1
             self.low_store32(TICKS_ADDR, count % per_day)
+        return self.batched
 
     def bios_tick(self, m):
         """Type 8: count the tick (midnight wrap), then INT 1Ch."""

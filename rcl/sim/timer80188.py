@@ -156,9 +156,9 @@ class Timer:
         return bool(self.control & bit)
 
     def source(self):
-        if self.number == 2 or not self.has(EXT | P):
+        if self.number == 2 or not (self.control & (EXT | P)):
             return INTERNAL
-        return EXTERNAL if self.has(EXT) else PRESCALED
+        return EXTERNAL if (self.control & (EXT)) else PRESCALED
 
     def write_control(self, word):
         """EN only along with INH; RIU is read-only and stays only under ALT."""
@@ -168,7 +168,7 @@ class Timer:
 
     def limit(self, use_b=None):
         """The max count in use (or A/B if asked), 0 read as 65,536."""
-        use_b = self.has(RIU) if use_b is None else use_b
+        use_b = (self.control & (RIU)) if use_b is None else use_b
         return (self.max_b if use_b else self.max_a) or COUNT_RANGE
 
     def steps_to_expiry(self):
@@ -177,10 +177,10 @@ class Timer:
 
     def advance(self, n):
         """Count n input clocks; return (expiries, input clock of the first)."""
-        if not self.has(EN):
+        if not (self.control & (EN)):
             return 0, None
         d, first, total = self.steps_to_expiry(), None, 0
-        while self.has(EN) and n >= d:
+        while (self.control & (EN)) and n >= d:
             n -= d
             first = first or d
             total += 1
@@ -188,7 +188,7 @@ class Timer:
             n, skipped = self.skip_periods(n)
             total += skipped
             d = self.steps_to_expiry()
-        if self.has(EN):
+        if (self.control & (EN)):
             self.count = (self.count + n) & 0xFFFF
         return total, first
 
@@ -197,17 +197,17 @@ class Timer:
         self.count = 0
         self.expiries += 1
         self.control |= MC
-        if self.has(ALT):
+        if (self.control & (ALT)):
             self.control ^= RIU
-        if not self.has(CONT) and not self.has(RIU):
+        if not (self.control & (CONT)) and not (self.control & (RIU)):
             self.control &= ~EN
 
     def skip_periods(self, n):
         """From count 0, skip whole periods of n clocks: (n left, expiries)."""
-        if not self.has(CONT):
+        if not (self.control & (CONT)):
             return n, 0
-        per_cycle = 2 if self.has(ALT) else 1
-        cycle = self.limit(False) + self.limit(True) if self.has(ALT) else self.limit()
+        per_cycle = 2 if (self.control & (ALT)) else 1
+        cycle = self.limit(False) + self.limit(True) if (self.control & (ALT)) else self.limit()
         k = n // cycle
         self.expiries += k * per_cycle
         return n - k * cycle, k * per_cycle
@@ -263,9 +263,14 @@ class Timer80188:
         return self.read_controller(offset)
 
     def write16(self, offset, word, now):
-        self.catch_up(now)
         word &= 0xFFFF
         timer, field = self.decode_timer(offset)
+        if timer is None:
+            # The interrupt controller: requests are latched lazily with their
+            # own times, so the timers need not be brought up to now.
+            self.write_controller(offset, word)
+            return
+        self.catch_up(now)
         if field == "control":
             timer.write_control(word)
         elif timer is not None:
@@ -313,9 +318,18 @@ class Timer80188:
         latched = [t.pending_at for t in self.timers if t.pending_at is not None]
         if latched:
             return min(latched)
-        coming = [self.next_expiry(t) for t in self.timers if t.has(EN) and t.has(INT)]
+        coming = [self.next_expiry(t) for t in self.timers if (t.control & (EN)) and (t.control & (INT))]
         coming = [c for c in coming if c is not None]
         return min(coming) if coming else None
+
+    def upcoming(self, now):
+        """Clock of the next timer request, in service or not (as
+        next_interrupt would give once the EOI is sent)."""
+        in_service, self.in_service = self.in_service, False
+        try:
+            return self.next_interrupt(now)
+        finally:
+            self.in_service = in_service
 
     def acknowledge(self, now):
         """The CPU takes the timer interrupt: return its type, set in-service."""
@@ -348,7 +362,7 @@ class Timer80188:
     def prescaler(self):
         """Timer 2 as a clock source: (on, first expiry edge, period, continuous)."""
         t2 = self.timers[2]
-        return t2.has(EN), t2.steps_to_expiry(), t2.limit(), t2.has(CONT)
+        return (t2.control & (EN)), t2.steps_to_expiry(), t2.limit(), (t2.control & (CONT))
 
     def input_edge(self, timer, k, prescaler):
         """2 MHz edge (1 = the next one) of the timer's k-th input clock, or None."""
@@ -381,7 +395,7 @@ class Timer80188:
 
     def latch(self, timer, expired, first_edge, base):
         """Record the interrupt requests of `expired` expiries of `timer`."""
-        if not expired or not timer.has(INT):
+        if not expired or not (timer.control & (INT)):
             return
         timer.requests += expired
         if timer.pending_at is None:
