@@ -1,6 +1,7 @@
 """The simulated board, driven from Forth through its ports as RCL drives
 it (board-hardware.md sections 3-6), with the reference's numbers."""
 import io
+import pathlib
 
 import pytest
 
@@ -13,19 +14,7 @@ TICK = 6667 * 54_000            # 10.0005 ms in clock units
 MS = CLOCK_HZ // 1000
 
 # A minimal hardware layer of our own (RCL's real one is in screens/).
-LAYER = """
-HEX
-: INIT-8253 ( base -- )  >R  36 R@ 3 + PC!  0 R@ PC!  0 R@ PC!
-   74 R@ 3 + PC!  0 R@ 1+ PC!  0 R@ 1+ PC!  B4 R@ 3 + PC!  0 R@ 2+ PC!  0 R@ 2+ PC!
-   R> DROP ;
-: REF! ( n base -- )  >R  DUP FF AND R@ PC!  8 RSHIFT R> PC! ;
-: CNT ( port -- u )  DUP PC@ SWAP PC@ 8 LSHIFT OR ;
-: READ ( base -- fwd rev )  >R  40 R@ 3 + PC!  80 R@ 3 + PC!  R@ 1+ CNT  R> 2+ CNT ;
-: SET-INT ( addr seg int# -- )  4 * >R  0 R@ 2+ L!  0 R> L! ;
-: SET-TIMER ( n -- )  FF52 P!  0 FF50 P! ;
-80 INIT-8253  84 INIT-8253
-DECIMAL
-"""
+LAYER = (pathlib.Path(__file__).parent / "board_layer.fs").read_text()
 BOTH_FORWARD = 0x35             # M1-ON M2-ON M1-GO M2-GO
 SPIN_CW = 0x3D                  # as BOTH_FORWARD, plus M2-REV
 
