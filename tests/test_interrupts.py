@@ -125,3 +125,12 @@ def test_waiting_skips_the_clock_forward_and_still_services_every_interrupt():
     assert len(t.times) == 100
     assert [w - (i + 1) * 10 * MS for i, w in enumerate(t.times)] == [0] * 100
     assert m.evaluate("TICKS @ .") == "100 "
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_words_that_play_with_return_addresses_work_compiled_and_in_the_reference_loop(compiled):
+    m = rcl.Forth()
+    m.compiled = compiled
+    # R> DROP leaves the caller; R> 6 + >R skips the caller's next literal and word.
+    assert m.evaluate(": INNER  R> DROP ;  : OUTER  1 . INNER 2 . ;  OUTER 3 .") == "1 3 "
+    assert m.evaluate(": SKIP  R> 6 + >R ;  : T  SKIP 10 . 20 . 30 . ;  T") == "20 30 "

@@ -213,6 +213,8 @@ class Inner:
                     p.fn(self, *args)
                 else:
                     ip = self.call(xt, ip)
+                    if base is not None and len(rs) < base:
+                        return ip            # the callee took our frame off (R> DROP)
                 continue
             if self.clock >= self.deadline:
                 self.housekeep()
@@ -252,6 +254,8 @@ class Inner:
                     return ip
             elif name == "EXECUTE":
                 ip = self.call(s.pop(), ip)
+                if base is not None and len(rs) < base:
+                    return ip
         return ip
 
     # ------------------------------------------------ time and interrupts
