@@ -2,6 +2,8 @@
 
 `rcl.Forth()` is a bare F83 machine; see docs/API.md.
 """
+import os
+
 __version__ = "0.1.0"
 
 from rcl.errors import Bye, ForthError, RclError  # noqa: E402
@@ -10,7 +12,7 @@ from rcl.forth.machine import Forth  # noqa: E402
 __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 
 
-SCREENS = __import__("os").path.join(__import__("os").path.dirname(__file__), "screens")
+SCREENS = os.path.join(os.path.dirname(__file__), "screens")
 
 
 def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's name)
@@ -25,7 +27,7 @@ def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's 
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
     if screens:
-        m.include(__import__("os").path.join(SCREENS, "rcl.fs"))
+        m.include(os.path.join(SCREENS, "rcl.fs"))
     if realtime:
         board.pacer = Pacer(m.clock)
     return m

@@ -78,10 +78,15 @@ class Instr:
         self.next, self.cost, self.prim, self.target = nxt, cost, prim, target
 
 
+NO_TERMINATOR = Instr(0, 0, None, (), 0, 0)   # a block that just runs into the next
+
 TERMINATORS = {"EXIT", "BRANCH", "?BRANCH", "(DO)", "(?DO)", "(LOOP)", "(+LOOP)",
                "(LEAVE)", "(?LEAVE)", "(DOES>)", "EXECUTE", "colon", "does",
                "defer", "call", "bad"}
 NO_FALLTHROUGH = {"EXIT", "BRANCH", "(LEAVE)", "(DOES>)"}
+RUNTIME_KINDS = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
+                 N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
+                 N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}
 
 
 def decode(m, ip):
@@ -108,10 +113,7 @@ def decode(m, ip):
         return Instr(ip, xt, "literal", args, nxt, cost, p)
     if p.kind == "runtime":
         body = (xt + 2) & MASK
-        kind = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
-                N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
-                N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}.get(cf, "call")
-        return Instr(ip, xt, kind, (body,), nxt, cost, p)
+        return Instr(ip, xt, RUNTIME_KINDS.get(cf, "call"), (body,), nxt, cost, p)
     return Instr(ip, xt, "call" if p.kind == "call" else "simple", (), nxt, cost, p)
 
 
@@ -334,10 +336,8 @@ class Gen:
             self.emit("return rs.pop()", ind)
         elif op == "colon" or op == "does":
             self.flush(ind)
-            if op == "colon":
-                code = ins.args[0]
-            else:
-                code = ins.args[0]
+            code = ins.args[0]                 # the body, or the code after DOES>
+            if op == "does":
                 self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind)
             self.emit("rs.append(%d)" % ins.next, ind)
             self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
@@ -377,22 +377,22 @@ class Gen:
     # ---------------------------------------------------------- assembly
     def block(self, k, ops, term, ind):
         pre = sum(i.cost for i in ops)
-        # A runtime terminator (DEFER, vocabulary) gets its own cost from m.call.
-        tcost = term.cost if term is not None and term.op not in ("defer", "bad") \
-            and not (term.op == "call" and term.prim.kind == "runtime") else 0
-        if term is not None and term.op == "EXECUTE":
-            tcost = term.cost
+        term = term or NO_TERMINATOR
+        # What goes through m.call(xt) (a bad xt, a vocabulary) is costed there;
+        # everything else, DEFER included, costs its own cell here.
+        through_call = term.op == "bad" or (term.op == "call" and term.prim.kind == "runtime")
+        tcost = 0 if term.op is None or through_call else term.cost
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         self.emit("if m.clock + %d >= m.deadline:" % pre, ind)
         self.emit("slow(m, %s, %d)" % (seq, tcost), ind + 1)
         self.vs, self.dpl = [], None
-        self.terminator(term or Instr(0, 0, None, (), 0, 0), k, ind + 1)
+        self.terminator(term, k, ind + 1)
         self.emit("else:", ind)
         self.emit("m.clock += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl = [], None
         for i in ops:
             self.op_simple(i, ind + 1)
-        self.terminator(term or Instr(0, 0, None, (), 0, 0), k, ind + 1)
+        self.terminator(term, k, ind + 1)
 
     def build(self):
         code, targets = walk(self.m, self.entry)

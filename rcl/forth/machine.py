@@ -58,7 +58,6 @@ class Forth(Inner, Outer):
         self.write = write             # callable(str) for streamed output
         self.out = []
         self.blocks = None
-        self.files = {}
         self.included = set()
         self.step_limit = None         # primitives one evaluate() may run
         self.keys = []                 # typed-ahead key codes for KEY
@@ -69,7 +68,7 @@ class Forth(Inner, Outer):
         self._init_outer()
         from rcl.words.blocks import BlockFile
         self.blocks = BlockFile(self)
-        if Forth._image is None or type(self)._image is None:
+        if type(self)._image is None:
             self._boot()
             type(self)._image = (bytes(self.mem), bytes(self.watch), dict(self.xt_of),
                                  self.forth_wid, self.root_wid)
