@@ -66,16 +66,9 @@ def do2con(m, xt, ret):
     return ret
 
 
-@prim("(DOVALUE)", kind="runtime", hidden=True)
-def dovalue(m, xt, ret):
-    m.s.append(m.memory.fetch((xt + 2) & MASK))
-    return ret
-
-
-@prim("(DO2VALUE)", kind="runtime", hidden=True)
-def do2value(m, xt, ret):
-    m.s.extend(m.memory.dfetch((xt + 2) & MASK))
-    return ret
+# A VALUE runs as a CONSTANT does; its own runtime lets TO tell them apart.
+prim("(DOVALUE)", kind="runtime", hidden=True)(docon)
+prim("(DO2VALUE)", kind="runtime", hidden=True)(do2con)
 
 
 @prim("(DODEFER)", kind="runtime", hidden=True)

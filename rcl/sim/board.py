@@ -36,7 +36,7 @@ from rcl.forth.primitives import CLOCK_HZ
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
-from rcl.sim.timer80188 import Timer80188
+from rcl.sim.timer80188 import P as P_BIT, T0_CLOCK, TIMER_CLOCK, Timer80188
 
 MS = CLOCK_HZ // 1000                     # clock units per physics sub-step
 BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
@@ -267,39 +267,40 @@ class SimBoard(Board):
                 observe(self)
             if self.pacer is not None:
                 self.pacer.wait(m.clock)
-        elif kind is not None:
-            self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
-            self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
         else:
+            if kind is not None:                # timers 1 and 2: nothing hangs there
+                self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
             self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
 
     def batch_idle_ticks(self, m):
         """While the machine only waits and INT 1Ch does nothing, every tick
         up to the end of the wait would just count: count them at once.
         (Each would have run at its own time with the same result.)"""
-        self.batched = False
         target = m.waiting_until
         if target is None or self.observers or self.pacer is not None \
                 or (self.vector(0x1C)[0] == FORTH_CS and not self.quiet):
             return False
         n = self.pcb.take_timer0_requests(target)
-        if n:
-            self.batched = True
-            self.ticks += n
-            per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
-            count = self.low_fetch32(TICKS_ADDR) + n
-            if count >= per_day:
-                self.low[MIDNIGHT_ADDR] = 1
-            self.low_store32(TICKS_ADDR, count % per_day)
-        return self.batched
+        self.ticks += n
+        self.count_ticks(n)
+        return n > 0
+
+    def count_ticks(self, n):
+        """Add n ticks to the BIOS time of day, wrapping at midnight (flag set)."""
+        per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
+        count = self.low_fetch32(TICKS_ADDR) + n
+        if count >= per_day:
+            self.low[MIDNIGHT_ADDR] = 1
+        self.low_store32(TICKS_ADDR, count % per_day)
+
+    def tick_period(self):
+        """Clock units between timer-0 ticks (prescaled by timer 2 or not)."""
+        t0 = self.pcb.timers[0]
+        return t0.limit() * (T0_CLOCK if t0.control & P_BIT else TIMER_CLOCK)
 
     def bios_tick(self, m):
         """Type 8: count the tick (midnight wrap), then INT 1Ch."""
-        count = self.low_fetch32(TICKS_ADDR) + 1
-        if count >= max(1, self.low_fetch32(PER_DAY_ADDR)):
-            count = 0
-            self.low[MIDNIGHT_ADDR] = 1
-        self.low_store32(TICKS_ADDR, count)
+        self.count_ticks(1)
         seg, off = self.vector(0x1C)
         if seg == FORTH_CS and not self.quiet:
             start = m.clock
@@ -312,14 +313,14 @@ class SimBoard(Board):
         while nothing moves (its tick handler would find nothing to do).
         The count, the timer and the clock end where ticking through would
         have left them; only the handler's idle runs are not made."""
-        m, t0 = self.machine, self.pcb.timers[0]
+        m = self.machine
         per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
         n = (target - self.low_fetch32(TICKS_ADDR)) % per_day
         if n < 2 or self.due is None:
             return
         # Stop one tick short, that tick run as usual: the waiting loop
         # takes the last one itself, exactly as it would have.
-        period = t0.limit() * (54_000 if t0.control & 0x0008 else 18_000)
+        period = self.tick_period()
         last = max(m.clock, self.due) + (n - 2) * period
         self.quiet = True
         try:
@@ -336,14 +337,14 @@ class SimBoard(Board):
         only reads). Count it out tick by tick in arithmetic instead of
         running it: the same clock, BIOS count and timer state. Returns the
         primitives left (0, or all of n when it cannot)."""
-        m, t0 = self.machine, self.pcb.timers[0]
+        m = self.machine
         cost, d = self.handler_cost, self.due
-        period = t0.limit() * (54_000 if t0.control & 0x0008 else 18_000)
+        period = self.tick_period()
         if cost is None or d is None or cost >= period or self.observers \
                 or self.pacer is not None or not self.is_idle():
             return n
         clock, ticks, last = m.clock, 0, None
-        limit = min(m.clock_limit, m.hk_next + 10 ** 18)
+        limit = m.clock_limit                     # a step budget still applies
         while n > 0:
             k = max(0, -(-(d - clock) // c))      # primitives until the tick
             if k >= n:
@@ -360,11 +361,7 @@ class SimBoard(Board):
             self.pcb.acknowledge(last)
             self.pcb.write16(0x22, EOI_TIMER, last)
             self.ticks += ticks
-            per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
-            count = self.low_fetch32(TICKS_ADDR) + ticks
-            if count >= per_day:
-                self.low[MIDNIGHT_ADDR] = 1
-            self.low_store32(TICKS_ADDR, count % per_day)
+            self.count_ticks(ticks)
         m.clock = max(m.clock, clock)
         self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
         m.reschedule()
