@@ -14,10 +14,11 @@ from rcl.forth.memory import MASK
 # Words whose purpose is to write memory at an address from the stack, or to
 # run an xt from the stack. With random numbers they overwrite the
 # dictionary as they would on the 80188: a real Forth dies of that, so they
-# get their own test below, each on a fresh machine. BYE leaves by design.
+# get their own test below, each on a fresh machine. HIDE and REVEAL store
+# into the newest header (after EMPTY that is the canary's). BYE leaves by design.
 STORES = {"!", "C!", "2!", "+!", "ON", "OFF", "FILL", "ERASE", "BLANK", "CMOVE",
           "CMOVE>", "MOVE", "DEFER!", "EXECUTE", "CATCH", "COMPILE,", "UPPER", "ACCEPT",
-          "EXPECT", "BYE"}
+          "EXPECT", "HIDE", "REVEAL", "BYE"}
 CONTROL = [":", ";", "IF", "ELSE", "THEN", "BEGIN", "UNTIL", "WHILE", "REPEAT",
            "AGAIN", "DO", "?DO", "LOOP", "+LOOP", "LEAVE", "CASE", "OF", "ENDOF",
            "ENDCASE", "DOES>", "[", "]", "(", ")", '."', '"', 'S"', "\\", "RECURSE"]
