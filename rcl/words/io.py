@@ -7,6 +7,7 @@ collects for `evaluate`. Numbers print in BASE with upper-case digits.
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, PAD_OFFSET, signed
 from rcl.forth.primitives import prim
+from rcl.words.compiling import compile_only
 from rcl.words.core import pop2
 from rcl.words.double import ds
 
@@ -264,32 +265,31 @@ def dot_quote(m):
     lay_string(m, '(.")', quoted(m))
 
 
+def string_word(m, text, runtime, counted=False):
+    """S" C" " S\\" : compile runtime and text, or (interpreting) leave the
+    text in a transient buffer as addr u, or as a counted string's addr."""
+    if state(m):
+        lay_string(m, runtime, text)
+    elif counted:
+        m.s.append(transient(m, text)[0] - 1)
+    else:
+        m.s.extend(transient(m, text))
+
+
 @prim("S\"", "( -- addr u ) a string: compiled, or in a transient buffer",
       immediate=True)
 def s_quote(m):
-    text = quoted(m)
-    if state(m):
-        lay_string(m, '(S")', text)
-    else:
-        m.s.extend(transient(m, text))
+    string_word(m, quoted(m), '(S")')
 
 
 @prim("C\"", "( -- addr ) a counted string: compiled, or transient", immediate=True)
 def c_quote(m):
-    text = quoted(m)
-    if state(m):
-        lay_string(m, '(C")', text)
-    else:
-        m.s.append(transient(m, text)[0] - 1)
+    string_word(m, quoted(m), '(C")', counted=True)
 
 
 @prim("\"", "( -- addr u ) F83's string literal", immediate=True)
 def quote(m):
-    text = quoted(m)
-    if state(m):
-        lay_string(m, '(")', text)
-    else:
-        m.s.extend(transient(m, text))
+    string_word(m, quoted(m), '(")')
 
 
 ESCAPES = {"a": "\a", "b": "\b", "e": "\x1b", "f": "\f", "l": "\n", "n": "\n",
@@ -325,23 +325,15 @@ def escaped(m):
 
 @prim("S\\\"", "( -- addr u ) a string with \\ escapes", immediate=True)
 def s_backslash_quote(m):
-    text = escaped(m)
-    if state(m):
-        lay_string(m, '(S")', text)
-    else:
-        m.s.extend(transient(m, text))
+    string_word(m, escaped(m), '(S")')
 
 
 def abort_quote(m):
     lay_string(m, '(ABORT")', quoted(m))
 
 
-def _abort_quote(m):
-    from rcl.words.compiling import compile_only
-    compile_only('ABORT"', abort_quote)(m)
-
-
-prim("ABORT\"", "( f -- ) abort with the message if f is true", immediate=True)(_abort_quote)
+prim("ABORT\"", "( f -- ) abort with the message if f is true",
+     immediate=True)(compile_only('ABORT"', abort_quote))
 
 
 @prim(".(", "( -- ) type the text up to ) now", immediate=True)
