@@ -1,6 +1,6 @@
 \ Layer 4, following error: each wheel's part of a move, and the limit.
 \ Adds WHEEL1 WHEEL2 >WHEEL (and their fields) POS1 POS2 FERR-LIMIT FERR
-\ PROGRESS FOLLOWING?. Relies on layers 1 and 3.
+\ READ-POS. Relies on layers 1 and 3.
 \ A wheel's record (offsets in bytes; doubles take 4):
 \   >MOVING flag   >START d   >DIR +1 or -1   >POS d (last read)
 \   >PORT its 8253   >COUNTER xt of ?CNT1 or ?CNT2   >KEEP the relay bits
@@ -22,11 +22,6 @@ VARIABLE FERR         \ 0 none, else the motor# that could not follow
 
 : READ-POS  ( rec -- d )   \ read the wheel's counters now, and keep it
    >R  R@ >COUNTER + @ EXECUTE  2DUP R> >POS + 2! ;
-: PROGRESS  ( d rec -- dp )   \ position d as progress in the commanded direction
-   >R  R@ >START + 2@ D-  R> >DIR + @ ?DNEGATE ;
-\ Lag never grows more than a few counts a tick before it trips, so the
-\ low cell of q - p is the whole difference.
-: FOLLOWING?  ( dq dp -- dq dp f )   \ does the wheel lag beyond the limit?
-   2OVER 2OVER D- DROP ABS FERR-LIMIT @ > ;
-\ (During a move CONTROL reads the counters itself and leaves POS1 POS2
-\ alone; between moves it keeps them current every tick.)
+\ The check itself, |q - p| > FERR-LIMIT for each moving wheel, is made by
+\ CHECK-WHEEL in the control word (layer 7), written inline there to fit
+\ the 10 ms tick; FERR-LIMIT and FERR are its limit and its flag.

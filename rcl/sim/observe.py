@@ -50,7 +50,7 @@ class Sim:
     @property
     def references(self):
         """The PLL reference frequencies, Hz."""
-        return self.board.references()
+        return self.board.refs
 
     @property
     def relays(self):
@@ -138,7 +138,7 @@ class Trace:
 
     def state(self, board):
         d = board.drive
-        ref = board.references()
+        ref = board.refs
         return (round(d.robot.x, 4), round(d.robot.y, 4), round(d.robot.heading, 4),
                 d.left.position, d.right.position, round(ref[0], 3), round(ref[1], 3),
                 board.motor_latch, board.aux_latch, round(d.lift.position, 4),
