@@ -32,6 +32,8 @@ class Board:
     due                    clock value of the next interrupt, or None
     service(machine)       handle what fell due (interrupts masked)
     stop_motors()          safe state, whatever happens (errors, Ctrl-C)
+    tick_failed()          the interrupt handler failed: motors off, and no
+                           more ticks until the software sets the timer again
     """
 
     due = None
@@ -69,6 +71,9 @@ class Board:
 
     def stop_motors(self):
         pass
+
+    def tick_failed(self):
+        self.stop_motors()
 
 
 class NullBoard(Board):

@@ -131,7 +131,7 @@ def where(e, name):
     """`file:line: text` for an error of a FILE or -e."""
     if e.file:
         return str(e)
-    if e.code == -38:
+    if e.code in (-37, -38):
         return "%s: %s" % (name, e.message)
     return "%s: %s" % (name, e.display())
 

@@ -34,6 +34,8 @@ MESSAGES = {
     -8: "Dictionary full",
     -262: "Line too long",
     -263: "No CODE for",
+    -290: "Tick fault",
+    -291: "Runs too long",
 }
 
 
@@ -85,6 +87,14 @@ def as_forth_error(exc):
     if isinstance(exc, KeyboardInterrupt):
         return ForthError(-28, "Interrupted")
     return ForthError(-4095, "Internal error: %s: %s" % (type(exc).__name__, exc))
+
+
+def file_error(exc, name):
+    """The Forth error for an OSError opening file `name`: File not found,
+    or what the system said (a directory, no permission)."""
+    if isinstance(exc, FileNotFoundError):
+        return ForthError(-38, "File not found", name)
+    return ForthError(-37, exc.strerror or "File I/O exception", name)
 
 
 class Bye(RclError):

@@ -130,7 +130,7 @@ def test_missing_file_says_so_without_traceback(tmp_path):
 def test_directory_as_file_is_an_error_without_traceback(tmp_path):
     done = rcl(str(tmp_path))
     assert done.returncode == 1
-    assert "File not found" in done.stderr
+    assert done.stderr == "%s: Is a directory\n" % tmp_path
 
 
 def test_e_words_run_after_files_and_before_stdin(source):

@@ -111,7 +111,8 @@ def test_an_error_in_a_handler_aborts_the_foreground_cleanly():
     ticker(m, 20 * PRIM, "BAD")
     with pytest.raises(rcl.ForthError) as e:
         m.evaluate("1 2 3 : BUSY  1000 0 DO LOOP ;  BUSY")
-    assert e.value.message == "Stack Underflow"
+    assert e.value.message == ("Stack Underflow in the tick handler BAD; "
+                               "tick stopped, INSTALL restarts it")
     m.irq = None
     m.reschedule()
     assert m.stack == []

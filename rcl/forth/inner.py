@@ -27,10 +27,17 @@ Time: every primitive adds its cost to `clock` (units of 1/36 ns). Before a
 primitive runs, if `clock >= deadline`, `housekeep` runs: it services a due
 interrupt (the handler word runs to completion on its own stacks, masked)
 and checks the stack limits and the step budget.
+
+Asynchronous stops (Ctrl-C) never land in the middle of anything:
+`request_break` only sets a flag and pulls the deadline in, so the stop is
+taken by `housekeep` at the next primitive boundary of the foreground,
+never inside an interrupt handler or a CODE word. An error inside a handler
+is a tick fault: the board is told (it stops the motors and its tick), and
+the foreground gets an error that names the handler.
 """
 import math
 
-from rcl.errors import ForthError
+from rcl.errors import Bye, ForthError, as_forth_error
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import REGISTRY, prim
 
@@ -38,6 +45,7 @@ SENTINEL = 0                 # return address meaning "back to Python"
 STACK_CELLS = 1000           # data stack limit (Stack Overflow beyond)
 RSTACK_CELLS = 1000          # return stack limit
 HOUSEKEEPING = 36_000_000 * 100   # check limits every 100 ms of virtual time
+HANDLER_LIMIT = 36_000_000 * 1000  # a handler running 1 s of virtual time is broken
 
 
 # ---------------------------------------------------------------- runtimes
@@ -133,6 +141,8 @@ class Inner:
         self.cost = [p.cost if p else 0 for p in REGISTRY]   # clock units per primitive
         self.compiled = True     # False: run everything through run_from
         self.waiting_until = None
+        self.break_pending = False   # Ctrl-C seen, to be taken at a primitive boundary
+        self.handler_deadline = math.inf
 
     # ---------------------------------------------------------- calling
     def enter(self, addr, ret):
@@ -253,7 +263,10 @@ class Inner:
 
     # ------------------------------------------------ time and interrupts
     def housekeep(self):
-        """Clock passed the deadline: limits, then any due interrupt."""
+        """Clock passed the deadline: limits, then any due interrupt, then a
+        pending break (only in the foreground)."""
+        if self.masked and self.clock >= self.handler_deadline:
+            raise ForthError(-291, "Runs too long")
         if len(self.s) > STACK_CELLS:
             del self.s[:]
             raise ForthError(-3)
@@ -268,7 +281,18 @@ class Inner:
         if src is not None and not self.masked and src.due is not None \
                 and self.clock >= src.due:
             self.interrupt(src)
+        if self.break_pending and not self.masked:
+            self.break_pending = False
+            self.reschedule()
+            raise ForthError(-28, "Interrupted")
         self.reschedule()
+
+    def request_break(self):
+        """Ctrl-C: stop the foreground at its next primitive boundary. Safe to
+        call from a signal handler at any moment: it only sets a flag and
+        pulls the deadline in."""
+        self.break_pending = True
+        self.deadline = -1
 
     def attach(self, source):
         """Plug in an interrupt source: an object with `due` (the clock value
@@ -279,15 +303,44 @@ class Inner:
         self.reschedule()
 
     def run_handler(self, xt):
-        """From a source's service(): run the Forth word xt to completion."""
-        self.execute(xt)
+        """From a source's service(): run the Forth word xt to completion.
+        Any error in it is a tick fault: the board makes itself safe (motors
+        and tick off) and the error, naming the handler, goes on to the
+        foreground, whatever word that was running."""
+        try:
+            self.execute(xt)
+        except BaseException as exc:        # noqa: B036  (Bye and Ctrl-C included)
+            raise self.tick_fault(xt, exc) from None
+
+    def tick_fault(self, xt, exc):
+        """The error to report for exception exc inside handler xt."""
+        try:
+            self.board.tick_failed()
+        finally:
+            self.board.stop_motors()
+        e = as_forth_error(exc) if not isinstance(exc, Bye) else ForthError(-290, "BYE")
+        text = e.display() if e.message or e.word else "ABORT"
+        return ForthError(-290, "%s in the tick handler %s; tick stopped, INSTALL "
+                          "restarts it" % (text, self.handler_name(xt)))
+
+    def handler_name(self, xt):
+        """The handler's name, and the word a DEFER handler runs, if known."""
+        name = self.dictionary.name_of(xt) or "at %d" % xt
+        if self.mem[xt] | (self.mem[(xt + 1) & MASK] << 8) == N["(DODEFER)"]:
+            action = self.memory.fetch((xt + 2) & MASK)
+            name += " (%s)" % (self.dictionary.name_of(action) or "at %d" % action)
+        return name
 
     def reschedule(self):
         """Recompute the deadline after an interrupt source changed."""
         d = min(self.hk_next, self.clock_limit)
         src = self.irq
-        if src is not None and not self.masked and src.due is not None:
+        if self.masked:
+            d = min(d, self.handler_deadline)
+        elif src is not None and src.due is not None:
             d = min(d, src.due)
+        if self.break_pending and not self.masked:
+            d = -1
         self.deadline = d
 
     def interrupt(self, src):
@@ -295,7 +348,8 @@ class Inner:
         saved = self.s, self.rs
         self.s, self.rs = self.irq_s, self.irq_rs
         self.masked = True
-        self.deadline = min(self.hk_next, self.clock_limit)
+        self.handler_deadline = self.clock + HANDLER_LIMIT
+        self.deadline = min(self.hk_next, self.clock_limit, self.handler_deadline)
         self.interrupts += 1
         try:
             src.service(self)
@@ -303,6 +357,7 @@ class Inner:
             del self.irq_s[:], self.irq_rs[:]
             self.s, self.rs = saved
             self.masked = False
+            self.handler_deadline = math.inf
             self.reschedule()
 
     def spend(self, n):

@@ -6,12 +6,14 @@ header for every registered primitive, then loads the kernel screens
 (rcl/kernel/*.fs: the words easier said in Forth). The booted image is
 kept per process, so a new machine is a copy of bytes, not a re-boot.
 """
+import contextlib
 import os
-
+import signal
 import sys
+import threading
 
 from rcl.board import NullBoard
-from rcl.errors import Bye, ForthError, as_forth_error
+from rcl.errors import Bye, ForthError, as_forth_error, file_error
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
@@ -64,6 +66,7 @@ class Forth(Inner, Outer):
         self.read_key = None           # callable() -> key code, at the prompt
         self.read_line = None          # callable() -> line, for ACCEPT
         self.key_ready = None          # callable() -> bool, for KEY?
+        self.in_input = False          # waiting in read_key/read_line
         self._init_inner()
         self._init_outer()
         from rcl.words.blocks import BlockFile
@@ -118,6 +121,7 @@ class Forth(Inner, Outer):
                 self.include(os.path.join(KERNEL_DIR, name))
         mem.store(self.a_warning, MASK)
         mem.store(self.a_fence, d.here)
+        self.xt_of["ON-ABORT"] = d.find("ON-ABORT")[0]
         self.invalidate()
         self.clock = 0                     # power-on: a copied image starts at 0 too
         self.reschedule()
@@ -178,8 +182,9 @@ class Forth(Inner, Outer):
             self.clock_limit = self.clock + self.step_limit * self.cost[inner.DOCOL]
             self.reschedule()
         try:
-            while self.refill():
-                self.guarded(self.interpret)
+            with self.breakable():
+                while self.refill():
+                    self.guarded(self.interpret)
         finally:
             self.sources[0].lines = iter(())
             self.clock_limit = float("inf")
@@ -202,12 +207,44 @@ class Forth(Inner, Outer):
         """Load a text file, as INCLUDE does."""
         try:
             f = open(path, encoding="latin-1")
-        except OSError:
-            raise ForthError(-38, "File not found", path) from None
+        except OSError as exc:
+            raise file_error(exc, path) from None
         self.included.add(os.path.abspath(path))     # as INCLUDE does: REQUIRE sees it
-        with f:
+        with f, self.breakable():
             lines = (line.rstrip("\r\n") for line in f)
             return self.guarded(lambda: self.include_lines(lines, path))
+
+    def wait_input(self, read):
+        """read() for KEY or ACCEPT: never inside an interrupt handler, and
+        Ctrl-C while it waits interrupts at once."""
+        if self.masked:
+            raise ForthError(-21, "Waits for input")
+        self.in_input = True
+        try:
+            return read()
+        finally:
+            self.in_input = False
+
+    @contextlib.contextmanager
+    def breakable(self):
+        """While Forth runs, Ctrl-C (SIGINT) becomes a break request, taken
+        at the next primitive boundary of the foreground; waiting for input
+        (`self.in_input`) it interrupts at once. Only where Python's own
+        Ctrl-C handler is in place (the main thread, not nested)."""
+        if threading.current_thread() is not threading.main_thread() \
+                or signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+            yield
+            return
+
+        def on_sigint(signum, frame):
+            if self.in_input:
+                raise KeyboardInterrupt
+            self.request_break()
+        signal.signal(signal.SIGINT, on_sigint)
+        try:
+            yield
+        finally:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def guarded(self, action):
         """Run action; any error aborts the machine and raises ForthError."""

@@ -24,6 +24,8 @@ from rcl.errors import Bye, ForthError, as_forth_error
 from rcl.forth.memory import INPUT_AREA, MASK, SIZE
 from rcl.forth.numbers import convert
 
+ON_ABORT_LIMIT = 36_000_000 * 1000     # virtual time the ON-ABORT hook may take (1 s)
+
 
 @dataclass
 class Source:
@@ -67,7 +69,10 @@ class Outer:
 
     def set_line(self, src, text):
         """Put one line of text into src's line buffer and rewind >IN."""
-        data = text.encode("latin-1", "replace")
+        try:
+            data = text.encode("latin-1")
+        except UnicodeEncodeError as e:      # F83's characters are bytes
+            raise ForthError(-13, "Not a Latin-1 character: %r" % text[e.start]) from None
         if src.buf + len(data) > SIZE:
             raise ForthError(-262, "Line too long")
         self.memory.mem[src.buf:src.buf + len(data)] = data
@@ -256,14 +261,26 @@ class Outer:
         self.safe_state()
 
     def safe_state(self):
-        """After any error or Ctrl-C: the board's motors off, then the Forth
-        word ON-ABORT (RCL sets it to clear its relay shadow and move state)."""
+        """After any error or Ctrl-C: the board's motors off, then the kernel's
+        DEFER ON-ABORT (RCL sets it to clear its relay shadow and move state),
+        then the motors off again, whatever the hook did. The hook gets a
+        second of virtual time; a broken hook must not hide the error."""
         self.board.stop_motors()
-        hit = self.dictionary.find("ON-ABORT")
-        if hit is not None:
-            try:
-                self.execute(hit[0])
-            except Exception:            # a broken hook must not hide the error
-                pass
+        self.break_pending = False
+        limit = self.clock_limit
+        self.clock_limit = min(limit, self.clock + ON_ABORT_LIMIT)
+        try:
+            self.execute(self.xt_of["ON-ABORT"])
+        except Exception:
+            pass
+        finally:
+            self.clock_limit = limit
+            self.masked = False
             del self.s[:]
             del self.rs[:]
+            self.reschedule()
+            self.board.stop_motors()
+
+    def shutdown(self):
+        """Leaving (BYE, end of input, a signal): the robot in its safe state."""
+        self.abort()

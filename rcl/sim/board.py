@@ -36,7 +36,8 @@ from rcl.forth.primitives import CLOCK_HZ
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
-from rcl.sim.timer80188 import P as P_BIT, T0_CLOCK, TIMER_CLOCK, Timer80188
+from rcl.sim.timer80188 import (INH as INH_BIT, INT as INT_BIT, P as P_BIT, T0_CLOCK,
+                                TIMER_CLOCK, Timer80188)
 
 MS = CLOCK_HZ // 1000                     # clock units per physics sub-step
 BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
@@ -250,27 +251,32 @@ class SimBoard(Board):
         return max(now, self.pcb.clock)
 
     def service(self, m):
-        """An interrupt request: the simulated BIOS handles timer 0."""
+        """An interrupt request: the simulated BIOS handles timer 0. The EOI
+        and the next due time are restored whatever the handler does (a
+        fault in it still ends the interrupt, as the BIOS's IRET would)."""
         now = self.sync()
         kind = self.pcb.acknowledge(self.pcb_time(now))
-        if kind == C.VECTOR_TIMER0:
-            self.ticks += 1
-            nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
-            self.bios_tick(m)
-            self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
-            if self.batch_idle_ticks(m):
-                nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
-            self.due = nxt
-            if nxt is not None and nxt < m.clock:
-                self.overruns += 1
-            for observe in self.observers:
-                observe(self)
-            if self.pacer is not None:
-                self.pacer.wait(m.clock)
-        else:
+        if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
                 self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
             self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
+            return
+        self.ticks += 1
+        nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
+        try:
+            self.bios_tick(m)
+        finally:
+            self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+            self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
+        if self.batch_idle_ticks(m):
+            nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
+        self.due = nxt
+        if nxt is not None and nxt < m.clock:
+            self.overruns += 1
+        for observe in self.observers:
+            observe(self)
+        if self.pacer is not None:
+            self.pacer.wait(m.clock)
 
     def batch_idle_ticks(self, m):
         """While the machine only waits and INT 1Ch does nothing, every tick
@@ -372,3 +378,13 @@ class SimBoard(Board):
         """Safe state: every relay open (wheels braked, arm and gripper off)."""
         self.motor_latch = 0
         self.aux_latch &= ~(C.ARM_ON | C.GRIP_ON | C.BEEPER)
+
+    def tick_failed(self):
+        """The INT 1Ch handler failed: relays open, and timer 0 no longer
+        interrupts (its INT bit cleared, as INT-OFF does) until the software
+        sets it up again."""
+        self.stop_motors()
+        now = self.pcb_time()
+        control = self.pcb.read16(0x56, now)
+        self.pcb.write16(0x56, (control & ~INT_BIT) | INH_BIT, now)
+        self.refresh_due()

@@ -5,7 +5,7 @@ current directory. Lines may be of any length the input area holds.
 """
 import os
 
-from rcl.errors import ForthError
+from rcl.errors import ForthError, file_error
 from rcl.forth.primitives import prim
 from rcl.words.compiling import parse_word
 
@@ -25,8 +25,8 @@ def include_file(m, name):
     path = resolve(m, name)
     try:
         f = open(path, encoding="latin-1")
-    except OSError:
-        raise ForthError(-38, "File not found", name) from None
+    except OSError as exc:
+        raise file_error(exc, name) from None
     m.included.add(os.path.abspath(path))
     with f:
         m.include_lines((line.rstrip("\r\n") for line in f), path)

@@ -346,7 +346,7 @@ def dot_paren(m):
 def next_key(m):
     if m.keys:
         return m.keys.pop(0)
-    key = m.read_key() if m.read_key is not None else None
+    key = m.wait_input(m.read_key) if m.read_key is not None else None
     if key is None:
         raise ForthError(-39, "No input")
     return key
@@ -372,7 +372,7 @@ def read_line(m):
         return line
     line = next(m.sources[0].lines, None)
     if line is None and m.read_line is not None:
-        line = m.read_line()
+        line = m.wait_input(m.read_line)
     return "" if line is None else line      # at the end of input: an empty line
 
 

@@ -14,6 +14,7 @@ ENVIRONMENT = {
 
 @prim("BYE", "( -- ) leave rcl")
 def bye(m):
+    m.shutdown()                  # the robot safe before anyone leaves
     raise Bye()
 
 
