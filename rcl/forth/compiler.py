@@ -138,6 +138,9 @@ def walk(m, entry):
     return code, targets
 
 
+# An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
+WIDE_DPL = "wide"
+
 class Gen:
     """Python source for one definition."""
 
@@ -177,10 +180,13 @@ class Gen:
         return loaded + have
 
     def flush_dpl(self, ind):
+        """An RCL literal's DPL (and WIDE-NUMBER) is stored only when a word
+        that may read them comes next."""
         if self.dpl is not None:
-            a = self.m.a_dpl
-            v = self.dpl & MASK
-            self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind)
+            wide = self.dpl == WIDE_DPL
+            for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
+                         (self.m.a_wide, MASK if wide else 0)):
+                self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind)
             self.dpl = None
 
     def flush(self, ind):

@@ -34,13 +34,14 @@ KERNEL_DIR = os.path.join(os.path.dirname(os.path.dirname(__file__)), "kernel")
 USER_VARIABLES = ["DP", "BASE", "STATE", "DPL", ">IN", "BLK", "#TIB", "SPAN",
                   "SCR", "HLD", "WARNING", "CAPS", "RCL-LITERALS", "FENCE",
                   "LAST", "CURRENT", "#ORDER", "VOC-LINK", "CSP", "TMP",
-                  "CONTEXT"]          # CONTEXT is last: it takes 8 cells
+                  "WIDE-NUMBER", "CONTEXT"]   # CONTEXT is last: it takes 8 cells
 CLEAR_CODE = bytes(range(256)).translate(bytes(b & ~WATCH_CODE for b in range(256)))
 
 
 def attr_name(var):
     return "a_" + {"DP": "dp", ">IN": "in", "#TIB": "ntib", "#ORDER": "norder",
-                   "VOC-LINK": "voclink", "RCL-LITERALS": "rcllit"}.get(
+                   "VOC-LINK": "voclink", "RCL-LITERALS": "rcllit",
+                   "WIDE-NUMBER": "wide"}.get(
         var, var.lower().replace("-", ""))
 
 

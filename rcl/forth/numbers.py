@@ -3,6 +3,10 @@ Forth 2012 prefixes (#decimal $hex %binary 'c').
 
     "-9.999"  ->  Number(value=-9999, dpl=3)    a double: DPL >= 0
     "725"     ->  Number(value=725, dpl=-1)     a single: DPL = -1
+    "40000"   ->  Number(value=40000, dpl=-1, wide=True)
+                  a single beyond a signed cell: F83 keeps the low 16 bits
+                  (40000 U. prints 40000); `wide` lets RCL's FIXED refuse
+                  it rather than read -25536
 
 DPL counts the digits after the last punctuation character (, - . /).
 A failed conversion still reports the DPL the scan reached (F83 sets DPL
@@ -19,6 +23,7 @@ class Number:
     value: int      # the 32-bit result, unsigned (mod 2**32)
     dpl: int        # -1: a single; otherwise digits after the last punctuation
     ok: bool = True
+    wide: bool = False   # a single whose typed value does not fit a signed cell
 
     @property
     def double(self):
@@ -48,10 +53,11 @@ def convert(token, base):
     negative = text.startswith("-")
     if negative:
         text = text[1:]
-    acc, dpl = 0, -1
+    acc, dpl, exact = 0, -1, 0
     for c in text:
         d = digit(c, base)
         if d is not None:
+            exact = exact * base + d
             acc = (acc * base + d) & 0xFFFFFFFF
             if dpl != -1:
                 dpl += 1
@@ -60,5 +66,5 @@ def convert(token, base):
         else:
             return Number(0, dpl, ok=False)
     if negative:
-        acc = -acc & 0xFFFFFFFF
-    return Number(acc, dpl)
+        acc, exact = -acc & 0xFFFFFFFF, -exact
+    return Number(acc, dpl, wide=dpl == -1 and not -0x8000 <= exact <= 0x7FFF)

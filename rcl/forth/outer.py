@@ -178,19 +178,20 @@ class Outer:
                 self.memory.store(self.a_dpl, n.dpl & MASK)
             raise ForthError(-13, "?", name.upper())
         self.memory.store(self.a_dpl, n.dpl & MASK)
+        self.memory.store(self.a_wide, MASK if n.wide else 0)
         lo, hi = n.value & MASK, n.value >> 16
         if self.compiling:
-            self.compile_number(lo, hi, n.dpl)
+            self.compile_number(lo, hi, n.dpl, n.wide)
         elif n.double:
             self.s.extend((lo, hi))
         else:
             self.s.append(lo)
 
-    def compile_number(self, lo, hi, dpl):
+    def compile_number(self, lo, hi, dpl, wide=False):
         d, xt = self.dictionary, self.xt_of
         if self.memory.fetch(self.a_rcllit):
             if dpl < 0:
-                d.comma(xt["(RLIT)"])
+                d.comma(xt["(RWLIT)" if wide else "(RLIT)"])
                 d.comma(lo)
             else:
                 d.comma(xt["(RDLIT)"])

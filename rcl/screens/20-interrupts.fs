@@ -1,7 +1,9 @@
 \ Layer 2, interrupt control: the 80188's timer 0, the vector table, INSTALL.
-\ Adds INT-OFF INT-ON SET-TIMER SET-INT GET-INT TICKS@ TICKS! CONTROL
-\ RCL-RATE BIOS-RATE (INSTALL itself ends layer 3: it needs the counters). Relies on P! (16-bit OUT, for the 80188's peripheral
-\ control block), L@ L! (the 1 MiB address space) and GET-CS.
+\ Adds INT-OFF INT-ON MASK UNMASK SET-TIMER SET-INT GET-INT TICKS@ TICKS!
+\ PER-DAY@ PER-DAY! CONTROL STOCK-CONTROL ?TICKING STOCK? RCL-RATE BIOS-RATE
+\ (INSTALL itself ends layer 3: it needs the counters). Relies on P! (16-bit
+\ OUT, for the 80188's peripheral control block), L@ L! (the 1 MiB address
+\ space) and GET-CS.
 \ Timer 0 counts 1.5 us periods (board-hardware.md 3.4); the BIOS's
 \ type-8 handler counts the time of day at 0040:006C, then runs INT 1Ch.
 HEX
@@ -27,10 +29,20 @@ DECIMAL
    AGAIN ;
 : TICKS!  ( d -- )   MASK  BIOS-SEG TICK-COUNT 2+ L!  BIOS-SEG TICK-COUNT L!  UNMASK ;
 : PER-DAY!  ( d -- )   BIOS-SEG PER-DAY 2+ L!  BIOS-SEG PER-DAY L! ;
+: PER-DAY@  ( -- d )   BIOS-SEG PER-DAY L@  BIOS-SEG PER-DAY 2+ L@ ;
 
 DEFER CONTROL  ( -- )    \ the 10 ms control word (layer 7 sets it)
+VARIABLE STOCK-CONTROL   \ RCL's own control word, which INSTALL puts back
 VARIABLE INSTALLED       \ true once INSTALL has run
 2VARIABLE OLD-TICK       \ the INT 1Ch vector before INSTALL
+
+\ Every wait of RCL ends by the tick: none may start when no tick can come.
+CODE ?TICKING  ( -- )  abort with " Control loop not running " unless timer
+   0 interrupts, unmasked, into a Forth word on INT 1Ch.
+END-CODE
+: STOCK?  ( -- f )   \ RCL's own control word hangs on INT 1Ch
+   USER-TICK GET-INT  ['] CONTROL GET-CS D=
+   ['] CONTROL >BODY @  STOCK-CONTROL @ =  AND ;
 
 \ After INSTALL the time of day counts 10 ms ticks (8,640,000 a day): the
 \ count is rescaled from 36617-count ticks to 6667-count ticks, exactly

@@ -1,6 +1,8 @@
 \ Layer 3, position counters: CODE words, as the article wrote them (they
 \ run inside the interrupt). Adds CNT-STATE INIT-COUNTERS ?CNT1 ?CNT2, and
 \ INSTALL UNINSTALL, which finish layer 2 once INIT-COUNTERS exists.
+\ INSTALL is also the way back after INT-OFF, MASK, SET-INT, IS CONTROL or
+\ a fault in the tick: it puts RCL's control word back on a running tick.
 \ Each 8253's counters 1 and 2 count a wheel's forward and reverse encoder
 \ pulses downward; the software extends them to 32 bits.
 \ The 80188 assembly of the original is a Python primitive here (CODE
@@ -15,11 +17,12 @@ END-CODE
 CODE ?CNT2  ( -- d )  the same for the right wheel (motor 2).
 END-CODE
 
-: INSTALL  ( -- )   \ the control word runs every 10 ms from now on
-   INT-OFF  INIT-COUNTERS
-   USER-TICK GET-INT OLD-TICK 2!
-   ['] CONTROL GET-CS USER-TICK SET-INT
-   6667 SET-TIMER  RCL-RATE  INSTALLED ON  INT-ON ;
+: INSTALL  ( -- )   \ RCL's control word runs every 10 ms from now on
+   INT-OFF  STOCK-CONTROL @ ?DUP IF  ['] CONTROL >BODY !  THEN
+   USER-TICK GET-INT  2DUP ['] CONTROL GET-CS D= IF 2DROP ELSE OLD-TICK 2! THEN
+   ['] CONTROL GET-CS USER-TICK SET-INT  6667 SET-TIMER
+   INSTALLED @ 0= IF  INIT-COUNTERS RCL-RATE  INSTALLED ON  THEN  \ once: the
+   UNMASK INT-ON ;                     \ counts and time of day go on after
 : UNINSTALL  ( -- )   \ back to the BIOS's own tick
    INT-OFF  STOP  OLD-TICK 2@ USER-TICK SET-INT
    36617 SET-TIMER  BIOS-RATE  INSTALLED OFF  INT-ON ;

@@ -1,29 +1,40 @@
 \ Layer 7, continued: the 10 ms control word that INSTALL hangs on INT 1Ch.
-\ Adds MOVING SPEED-NOW EXPACC ARM-BITS ARM-BUDGET ARM-LIMIT
-\ COMMANDED STEP NEW-SPEED SET-SPEED CHECK-WHEEL ARM-TICK (CONTROL).
-\ Relies on layers 1 to 7. Each tick (rcl-words.md section 6):
-\   the commanded progress q = EXPACC / 1200 (where the 8253 counts sent so
-\   far have told the wheels to be); the speed steps along the trapezoid
-\   laid out on q and its 8253 count goes out first, so the wheels get it
-\   with the least delay; EXPACC adds the speed that count really makes.
+\ Adds MOVING SPEED-NOW Q-AT Q-PART N-PART N-NOW ARM-BITS ARM-BUDGET
+\ ARM-LIMIT COMMANDED ADVANCE NEW-SPEED SET-SPEED CHECK-WHEEL ARM-TICK
+\ (CONTROL). Relies on layers 1 to 7. Each tick:
+\   the commanded progress q (Q-AT, where the 8253 counts sent so far have
+\   told the wheels to be); the speed steps along the trapezoid laid out on
+\   q and its 8253 count goes out first, so the wheels get it with the
+\   least delay; ADVANCE adds to q exactly what that count makes the wheels
+\   travel in a tick, 1250/N counts, remainders kept (the article's EXPACC,
+\   the sum of the speeds, over 1200), so a healthy wheel never drifts
+\   from q however long the move, and q never wraps within 32-bit counts.
 \   Then each moving wheel's position p: |q - p| > FERR-LIMIT stops
 \   everything (following error); p at the end (less RUN-ON) stops that
 \   wheel. When both are done the move is over. Last, the arm's ticks.
 \ Both wheels share the speed: they run the same profile until they stop.
 VARIABLE MOVING      \ a base move is under way
 VARIABLE SPEED-NOW   \ crpm commanded now
-VARIABLE STEP-NOW    \ the crpm its 8253 count really makes (EXPACC's step)
+VARIABLE N-NOW       \ the 8253 count sent last
 VARIABLE BOTH        \ both wheels still moving
 VARIABLE SPEED-HELD  \ a wheel stopped this tick: the other keeps its speed
-2VARIABLE EXPACC     \ the sum of the speeds commanded, tick by tick (crpm)
+2VARIABLE Q-AT       \ q: counts the wheels have been told to travel
+VARIABLE Q-PART      \ crpm-ticks toward q's next count (0 to 1199)
+VARIABLE N-PART      \ 1/N crpm-ticks toward Q-PART's next (0 to N-1)
 VARIABLE ARM-BITS    \ relay bits of the arm or gripper move under way, or 0
 VARIABLE ARM-BUDGET  \ ticks left for it
 VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
 
-: COMMANDED  ( -- dq )   EXPACC 2@ 1200 MU/MOD ROT DROP ;
+: COMMANDED  ( -- dq )   Q-AT 2@ ;
 : EXPECTED-POS  ( motor# -- d )   DROP COMMANDED ;
-: STEP  ( N -- u )   \ the crpm 8253 count N (50..65535, from >REF) really
-   DUP >R 2/ 0 1500000. D+ R> UM/MOD NIP ;   \ makes: round(1,500,000 / N)
+\ Count N (50..65535, from >REF) makes 1,500,000 / N crpm, a quotient and a
+\ remainder in 1/N crpm: the remainders add up in N-PART and carry.
+: ADVANCE  ( N -- )   \ q moves on by one tick at count N, exactly
+   DUP N-NOW !  DUP >R  1500000. ROT UM/MOD SWAP       ( quot rem ) ( R: N )
+   N-PART @  R@ 2 PICK -                               ( quot rem part N-rem )
+   2DUP U< IF  DROP +  ELSE  - NIP  SWAP 1+ SWAP  THEN ( quot' part' )
+   N-PART !  R> DROP
+   Q-PART @ +  1200 /MOD  SWAP Q-PART !  0 Q-AT 2@ D+ Q-AT 2! ;
 : NEW-SPEED  ( dq -- v )   \ the speed at commanded progress q
    2DUP ACC-AT 2@ D< IF  2DROP SPEED-NOW @ ACCEL @ + TOP-SPEED @ MIN  EXIT THEN
    DEC-AT 2@ D< IF  TOP-SPEED @  EXIT THEN
@@ -35,7 +46,7 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
       DUP 255 AND DUP LEFT-8253 PC! RIGHT-8253 PC!
       DUP 8 RSHIFT DUP LEFT-8253 PC! RIGHT-8253 PC!
    ELSE  WHEEL1 @ IF DUP LEFT-8253 SEND THEN  WHEEL2 @ IF DUP RIGHT-8253 SEND THEN
-   THEN  STEP DUP STEP-NOW !  0 EXPACC 2@ D+ EXPACC 2! ;
+   THEN  ADVANCE ;
 : STOPPED  ( rec -- )   \ this wheel has arrived: its relays off (braked);
    \ one MOTOR latch write, as STOP-LEFT or STOP-RIGHT would make it
    >R  R@ >KEEP + @ RELAYS @ AND DUP RELAYS ! MOTOR-PORT PC!
@@ -58,18 +69,18 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
 \ Written for its cost, one primitive at a time (27.8 us each): with both
 \ wheels moving a tick must stay under half of its 10 ms. So the tick
 \ that stops one wheel does not also step the other's speed: that wheel
-\ keeps its speed (and EXPACC its step) one tick longer, 0.1 count at
+\ keeps its speed (and q its step) one tick longer, 0.1 count at
 \ 0.1 G. Arm moves never overlap base moves (commands wait), so the arm
 \ is looked after in the ticks between base moves.
 : (CONTROL)  ( -- )   \ the control word, every 10 ms
    MOVING @ IF
-      EXPACC 2@ 1200 MU/MOD ROT DROP            ( dq )
+      Q-AT 2@                                   ( dq )
       WHEEL1 @ IF WHEEL1 CHECK-WHEEL THEN
       WHEEL2 @ IF WHEEL2 CHECK-WHEEL THEN
-      SPEED-HELD @ IF  SPEED-HELD OFF 2DROP  STEP-NOW @ 0 EXPACC 2@ D+ EXPACC 2!  EXIT THEN
+      SPEED-HELD @ IF  SPEED-HELD OFF 2DROP  N-NOW @ ADVANCE  EXIT THEN
       MOVING @ IF NEW-SPEED SET-SPEED ELSE 2DROP THEN
    ELSE                                          \ between moves: lean
       ?CNT1 POS1 2!  ?CNT2 POS2 2!
       ARM-BITS @ IF ARM-TICK THEN
    THEN ;
-' (CONTROL) IS CONTROL
+' (CONTROL) DUP IS CONTROL  STOCK-CONTROL !

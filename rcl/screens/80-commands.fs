@@ -1,6 +1,7 @@
 \ Layer 8, command language: [DEVICE] [n SPEED] [n DISTANCE] COMMAND.
 \ Adds RERB ARM FORWARD BACKWARD LEFT RIGHT UP DOWN OPEN CLOSE, and under
-\ them DEVICE LAST-DISTANCE TAKE (MOVE) (ARM-MOVE) (SAFE). Relies on layers 1-7.
+\ them DEVICE LAST-DISTANCE TAKE ?CONTROL ?SETTINGS STALL? AWAIT (MOVE)
+\ (ARM-MOVE) (SAFE). Relies on layers 1-7.
 \ Optional parameters (rcl-words.md section 3): a distance waits in
 \ PENDING for the next command; with none, a command reuses its own last
 \ distance, first its default. Speed and G persist until changed.
@@ -28,14 +29,33 @@ CREATE SIGNS   1 , 1 ,   -1 , -1 ,   -1 , 1 ,   1 , -1 ,   \ left, right
 : START  ( dir -- )   \ both wheels set off on a new move
    4 * SIGNS +  DUP @ WHEEL1 >DIR + !  2+ @ WHEEL2 >DIR + !
    WHEEL1 READ-POS WHEEL1 >START + 2!  WHEEL2 READ-POS WHEEL2 >START + 2!
-   0. EXPACC 2!  0 SPEED-NOW !  SPEED-HELD OFF  BOTH ON
+   0. Q-AT 2!  Q-PART OFF  N-PART OFF  0 SPEED-NOW !  SPEED-HELD OFF  BOTH ON
    WHEEL1 >MOVING + ON  WHEEL2 >MOVING + ON ;
 
 DEFER MOVED  ( -- )   \ after each base move (the status layer's odometry)
 ' NOOP IS MOVED
-: WAIT-MOVE  ( -- )   BEGIN MOVING @ WHILE HALT REPEAT ;
+
+\ A command waits for the control loop to finish it, so it starts only if
+\ the loop can run, with settings its checks can work with, and gives up
+\ (everything stopped) if the loop stops making progress: no wait lasts
+\ forever with a motor on.
+: ?CONTROL  ( -- )   \ RCL's control word can run every tick
+   INSTALLED @ 0= ABORT" Not installed"  ?TICKING
+   USER-TICK GET-INT ['] CONTROL GET-CS D= 0=
+   ABORT" INT 1Ch is not CONTROL (INSTALL puts it back)" ;
+: ?SETTINGS  ( -- )   \ a trapezoid that climbs, a lag that can trip
+   ACCEL @ 1 30001 WITHIN 0= ABORT" Bad acceleration"
+   FERR-LIMIT @ 1 30001 WITHIN 0= ABORT" Bad following limit" ;
+100 CONSTANT PATIENCE    \ waits (ticks, when they come) without progress
+: STALL?  ( x1 x2 n -- n' )   \ count the waits in which progress x stood still
+   -ROT = IF  1+ DUP PATIENCE > ABORT" Control loop stalled"  ELSE DROP 0 THEN ;
+: AWAIT  ( busy 'progress -- )   \ HALT while busy @, progress watched
+   0 BEGIN  2 PICK @ WHILE  OVER EXECUTE HALT  2 PICK EXECUTE ROT STALL?  REPEAT
+   DROP 2DROP ;
+: MOVE-PROGRESS  ( -- x )   Q-AT 2+ @ Q-PART @ + ;   \ q in crpm-ticks, folded
+: WAIT-MOVE  ( -- )   MOVING ['] MOVE-PROGRESS AWAIT ;
 : (MOVE)  ( dir -- )   \ 0 forward 1 backward 2 left 3 right
-   INSTALLED @ 0= ABORT" Not installed"
+   ?CONTROL ?SETTINGS
    RERB  DUP TAKE  EXPECTED  PENDING-UNIT OFF        ( dir d )
    2DUP D0< IF DNEGATE ROT 1 XOR -ROT THEN           \ negative: the other way
    2DUP D0= IF 2DROP DROP EXIT THEN
@@ -55,9 +75,10 @@ CREATE ARM-MOVES
 : ARM-TICKS  ( cmd# -- ticks )   \ the pending distance as ticks of that motor
    >R  PENDING 2@  PENDING-UNIT @ 2 = IF 12 ELSE 1 THEN   ( d inches-per-unit )
    R> ARM-MOVE 4 + @ *  10000 R*/ DROP ;
-: WAIT-ARM  ( -- )   BEGIN ARM-BITS @ WHILE HALT REPEAT ;
+: ARM-PROGRESS  ( -- x )   ARM-BUDGET @ ;
+: WAIT-ARM  ( -- )   ARM-BITS ['] ARM-PROGRESS AWAIT ;
 : (ARM-MOVE)  ( cmd# -- )   \ 4 up 5 down 6 open 7 close
-   INSTALLED @ 0= ABORT" Not installed"
+   ?CONTROL
    ARM  PENDING-UNIT @ 2 > ABORT" Bad unit"          \ INCHES or FEET only
    DUP TAKE  PENDING 2@ D0< IF                       \ negative: the other way
       PENDING 2@ DNEGATE PENDING 2!  ARM-MOVE 6 + @

@@ -1,9 +1,11 @@
 \ Layer 9, time: delays, the time of day, the beeper.
-\ Adds MS SECONDS MINUTES BEEP AM PM WAIT-UNTIL .TIME. Relies on TICKS@
-\ (layer 2) and the relay words. MS is Listing 3's calibrated loop
-\ `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word spends exactly that loop's
-\ virtual time, with every tick still serviced (f83-semantics.md 13).
-CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time.
+\ Adds MS SECONDS MINUTES BEEP AM PM IDLE? ?TIME WAIT-UNTIL .TIME. Relies
+\ on TICKS@ (layer 2), the relay words and STALL? (layer 8). MS is Listing
+\ 3's calibrated loop `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word spends
+\ exactly that loop's virtual time, with every tick still serviced; like
+\ every wait it refuses to start when no tick can come.
+CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time (after
+   ?TICKING's check, at no cost); while IDLE? it counts idle ticks out.
 END-CODE
 : MS  ( milliseconds -- )   (MS) ;
 : SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;
@@ -20,9 +22,15 @@ END-CODE
 
 CODE (SKIP-TO-TICK)  ( d -- )  let the clock run to that tick at once.
 END-CODE
+: IDLE?  ( -- f )   \ every tick's handler would only read: a wait may skip
+   MOVING @ ARM-BITS @ OR 0=  STOCK? AND ;
+: ?TIME  ( d -- )   \ a time of day that comes: 0 to the ticks of a day
+   2DUP D0< >R  PER-DAY@ D< 0= R> OR ABORT" Bad time" ;
 : WAIT-UNTIL  ( d -- )   \ until the time of day is exactly d (maybe tomorrow)
-   MOVING @ ARM-BITS @ OR 0= IF 2DUP (SKIP-TO-TICK) THEN   \ nothing moves
-   BEGIN 2DUP TICKS@ D= 0= WHILE HALT REPEAT 2DROP ;
+   2DUP ?TIME  ?TICKING  IDLE? IF 2DUP (SKIP-TO-TICK) THEN
+   0 BEGIN  >R 2DUP TICKS@ D= 0= WHILE
+      TICKS@ DROP HALT TICKS@ DROP R> STALL?
+   REPEAT  R> DROP 2DROP ;
 : .00  ( n -- )   0 <# # # #> TYPE ;
 : .TIME  ( -- )   \ hh:mm:ss
    TICKS@ 100 MU/MOD ROT DROP  60 MU/MOD ROT >R  60 MU/MOD ROT >R  DROP

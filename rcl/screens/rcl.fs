@@ -17,3 +17,4 @@ INCLUDE 95-status.fs
 ' (SAFE) IS ON-ABORT
 WARNING ON
 DECIMAL INSTALL
+HERE FENCE !     \ EMPTY forgets the user's words only; FORGET stops here

@@ -6,7 +6,7 @@ kept unsigned, 0..65535) and an inline template the compiler pastes into
 compiled code (see rcl/forth/primitives.py for the template form).
 """
 from rcl.forth.memory import MASK, signed
-from rcl.forth.compiler import HELPERS
+from rcl.forth.compiler import HELPERS, WIDE_DPL
 from rcl.forth.primitives import prim, BY_NAME
 
 T = "0xFFFF"                   # a true flag
@@ -40,6 +40,15 @@ def lit(m, n):
 def rlit(m, n):
     m.s.append(n)
     m.memory.store(m.a_dpl, MASK)
+    m.memory.store(m.a_wide, 0)
+
+
+@prim("(RWLIT)", "( -- n ) push the inline cell, DPL := -1, WIDE-NUMBER on: "
+      "a literal typed beyond a signed cell (RCL literal)", kind="literal", args=1)
+def rwlit(m, n):
+    m.s.append(n)
+    m.memory.store(m.a_dpl, MASK)
+    m.memory.store(m.a_wide, MASK)
 
 
 @prim("(RDLIT)", "( -- d ) push the inline double, DPL := its compile-time DPL",
@@ -47,10 +56,14 @@ def rlit(m, n):
 def rdlit(m, lo, hi, dpl):
     m.s.extend((lo, hi))
     m.memory.store(m.a_dpl, dpl)
+    m.memory.store(m.a_wide, 0)
 
 
+# What the compiler pushes and the DPL it restores (WIDE_DPL: -1 with
+# WIDE-NUMBER on).
 BY_NAME["LIT"].extra["lit"] = lambda a: ((a[0],), None)
 BY_NAME["(RLIT)"].extra["lit"] = lambda a: ((a[0],), -1)
+BY_NAME["(RWLIT)"].extra["lit"] = lambda a: ((a[0],), WIDE_DPL)
 BY_NAME["(RDLIT)"].extra["lit"] = lambda a: ((a[0], a[1]), signed(a[2]))
 
 

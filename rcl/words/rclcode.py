@@ -9,6 +9,8 @@ Counter state lives in memory, in the screen's `CNT-STATE` (12 bytes per
 wheel): previous forward and reverse counter values, then the 32-bit
 forward and reverse totals (high cell first, as 2! keeps them).
 """
+from rcl.board import FORTH_CS
+from rcl.errors import ForthError
 from rcl.forth.memory import MASK
 from rcl.forth.inner import DOCOL
 from rcl.forth.primitives import prim
@@ -20,7 +22,6 @@ CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 8018
 def state_addr(m):
     hit = m.dictionary.find("CNT-STATE")
     if hit is None:
-        from rcl.errors import ForthError
         raise ForthError(-13, "?", "CNT-STATE")
     return (hit[0] + 2) & MASK
 
@@ -74,10 +75,47 @@ def q_cnt2(m):
     m.s.extend((d & MASK, d >> 16))
 
 
+# ------------------------------------------------------------ the tick
+PCB_T0_CONTROL, PCB_TIMER_MASK = 0xFF56, 0xFF32
+T0_EN, T0_INT, TIMER_MSK = 0x8000, 0x2000, 0x0008
+USER_TICK_VECTOR = 4 * 0x1C                     # INT 1Ch in segment 0
+
+
+def user_tick(m):
+    """(seg, off) of the INT 1Ch vector, read as the 80188 would."""
+    b = m.board
+    v = [b.far_fetch8(0, USER_TICK_VECTOR + i) for i in range(4)]
+    return v[2] | (v[3] << 8), v[0] | (v[1] << 8)
+
+
+def ticking(m):
+    """Timer 0 runs and interrupts, unmasked, and INT 1Ch is a Forth word:
+    something can run every tick."""
+    b = m.board
+    control, mask = b.in16(PCB_T0_CONTROL), b.in16(PCB_TIMER_MASK)
+    return (control & (T0_EN | T0_INT)) == T0_EN | T0_INT and not mask & TIMER_MSK \
+        and user_tick(m)[0] == FORTH_CS
+
+
+@prim("?TICKING", "( -- ) abort unless timer 0 interrupts, unmasked, into a "
+      "Forth word on INT 1Ch (a wait could not end otherwise)", hidden=True, cost=CODE_COST)
+def q_ticking(m):
+    if not ticking(m):
+        raise ForthError(-2, "Control loop not running (INSTALL starts it)")
+
+
 def quiet(m):
-    """Nothing under way that the control word would act on."""
+    """The Forth word IDLE?, read without running Forth (so MS keeps its
+    calibrated time): nothing under way that the control word would act on,
+    and RCL's own control word is the one on INT 1Ch. Only then is every
+    tick's handler known to do nothing but read."""
     fetch, find = m.memory.fetch, m.dictionary.find
-    return all(fetch((find(name)[0] + 2) & MASK) == 0 for name in ("MOVING", "ARM-BITS"))
+    body = {name: (find(name)[0] + 2) & MASK
+            for name in ("MOVING", "ARM-BITS", "CONTROL", "STOCK-CONTROL")}
+    control = body["CONTROL"] - 2
+    return fetch(body["MOVING"]) == 0 and fetch(body["ARM-BITS"]) == 0 \
+        and user_tick(m) == (FORTH_CS, control) \
+        and fetch(body["CONTROL"]) == fetch(body["STOCK-CONTROL"])
 
 
 @prim("(MS)", "( n -- ) Listing 3's MS in virtual time: 37 primitives a "
@@ -86,6 +124,8 @@ def paren_ms(m):
     # : MS  0 ?DO 33 0 DO LOOP LOOP ;  costs 4 + 37n primitives; `: MS (MS) ;`
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
     n = 1 + 37 * m.s.pop()
+    if not ticking(m):
+        raise ForthError(-2, "Control loop not running (INSTALL starts it)")
     c = m.cost[DOCOL]
     repeat = getattr(m.board, "repeat_idle_ticks", None)
     if repeat is not None:

@@ -183,7 +183,7 @@ def body_text(m, start):
 
 def literal_text(m, ins):
     name, args = ins.prim.name, ins.args
-    if name in ("LIT", "(RLIT)"):
+    if name in ("LIT", "(RLIT)", "(RWLIT)"):
         return number_text(m, args[0])
     if name == "(RDLIT)":
         return number_text(m, args[0] | (args[1] << 16), signed(args[2]))
