@@ -12,8 +12,10 @@ outside the interactive prompt (a FILE, a -e, a piped line), 2 for a bad
 command line. Nothing here ever lets a Python traceback reach the user.
 """
 import argparse
+import contextlib
 import io
 import os
+import signal
 import sys
 
 import rcl
@@ -60,6 +62,8 @@ class Output:
                 self.stream.flush()
         except BrokenPipeError:
             raise StdoutClosed() from None
+        except (OSError, ValueError) as e:          # disk full, closed: say so
+            raise StdoutClosed(getattr(e, "strerror", None) or str(e)) from None
 
     def end_line(self):
         if self.tail:
@@ -70,9 +74,10 @@ class Output:
 
 
 class StdoutClosed(BaseException):
-    """Whoever read our standard output went away (`rcl ... | head`).
-    Not an Exception, so the machine's error handling lets it through to
-    main, which leaves quietly."""
+    """Standard output cannot be written: whoever read it went away (`rcl
+    ... | head`: leave quietly), or the system refused (the reason given:
+    say it). Not an Exception, so the machine's error handling lets it
+    through to main."""
 
 
 class LineFeed:
@@ -194,15 +199,55 @@ def internal(m, exc):
     return " Internal error: %s: %s " % (type(exc).__name__, exc)
 
 
+# ----------------------------------------------------------------- leaving
+LEAVING_SIGNALS = ("SIGTERM", "SIGHUP")
+
+
+@contextlib.contextmanager
+def robot_safe_at_exit(m):
+    """However rcl leaves (BYE, end of input, an error, SIGTERM or SIGHUP),
+    the robot is left in its safe state. A signal while Forth runs is taken
+    at the next primitive boundary (as Ctrl-C is), otherwise at once."""
+    def on_signal(signum, frame):
+        m.board.stop_motors()
+        if m.in_forth and not m.in_input:
+            m.request_break(leave=signum)
+        else:
+            raise rcl.errors.Terminated(signum)
+    saved = {}
+    for name in LEAVING_SIGNALS:
+        if hasattr(signal, name):
+            saved[name] = signal.signal(getattr(signal, name), on_signal)
+    try:
+        yield
+    finally:
+        for name, handler in saved.items():
+            signal.signal(getattr(signal, name), handler)
+        try:
+            m.write = None                # nothing more to show
+            m.shutdown()
+        except BaseException:             # noqa: B036  still stop the motors
+            pass
+        m.board.stop_motors()
+
+
 # -------------------------------------------------------------------- main
 def run(argv):
     args = parse_args(argv)
+    if sys.stdout is None:
+        raise StdoutClosed("standard output is closed")
     for stream in (sys.stdout, sys.stderr, sys.stdin):
         if hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="replace")
     interactive = sys.stdin is not None and sys.stdin.isatty()
     out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty())
     m = make_machine(args, out.write)
+    with robot_safe_at_exit(m):
+        return drive(m, args, out, interactive)
+
+
+def drive(m, args, out, interactive):
+    """Files, -e, then standard input: a pipe or the prompt. -> exit status."""
     if not interactive:
         feed = LineFeed(sys.stdin or io.StringIO())   # stdin closed: no input
         m.read_line, m.read_key = feed.line, feed.key
@@ -234,9 +279,16 @@ def main(argv=None):
         return e.code if isinstance(e.code, int) else 0 if e.code is None else 2
     except KeyboardInterrupt:
         return 130
-    except (StdoutClosed, BrokenPipeError):
-        # The reader went away: say nothing, and keep Python's exit-time
-        # flush of stdout from complaining either.
+    except rcl.errors.Terminated as e:
+        return 128 + (e.args[0] if e.args else signal.SIGTERM)
+    except (StdoutClosed, BrokenPipeError) as e:
+        # Say why, unless the reader simply went away; and keep Python's
+        # exit-time flush of stdout from complaining either.
+        if e.args:
+            try:
+                sys.stderr.write("rcl: cannot write standard output: %s\n" % e.args[0])
+            except Exception:
+                pass
         try:
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         except Exception:

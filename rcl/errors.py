@@ -99,3 +99,9 @@ def file_error(exc, name):
 
 class Bye(RclError):
     """BYE was executed: the caller should leave."""
+
+
+class Terminated(BaseException):
+    """A signal (SIGTERM, SIGHUP) asked rcl to leave. Not an Exception, so
+    no error handling on the way stops it; it is raised only at a primitive
+    boundary of the foreground or while nothing runs."""

@@ -37,7 +37,7 @@ the foreground gets an error that names the handler.
 """
 import math
 
-from rcl.errors import Bye, ForthError, as_forth_error
+from rcl.errors import Bye, ForthError, Terminated, as_forth_error
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import REGISTRY, prim
 
@@ -142,6 +142,7 @@ class Inner:
         self.compiled = True     # False: run everything through run_from
         self.waiting_until = None
         self.break_pending = False   # Ctrl-C seen, to be taken at a primitive boundary
+        self.leave_signal = None     # and a signal asked to quit
         self.handler_deadline = math.inf
 
     # ---------------------------------------------------------- calling
@@ -272,7 +273,7 @@ class Inner:
             raise ForthError(-3)
         if len(self.rs) > RSTACK_CELLS:
             self.rs_overflow()
-        if self.clock >= self.clock_limit:
+        if self.clock >= self.clock_limit and not self.masked:   # the foreground's budget
             self.clock_limit = math.inf
             raise ForthError(-259)
         if self.clock >= self.hk_next:
@@ -284,13 +285,17 @@ class Inner:
         if self.break_pending and not self.masked:
             self.break_pending = False
             self.reschedule()
+            if self.leave_signal:
+                raise Terminated(self.leave_signal)
             raise ForthError(-28, "Interrupted")
         self.reschedule()
 
-    def request_break(self):
-        """Ctrl-C: stop the foreground at its next primitive boundary. Safe to
-        call from a signal handler at any moment: it only sets a flag and
-        pulls the deadline in."""
+    def request_break(self, leave=None):
+        """Ctrl-C (or, with leave, the number of a signal to quit on): stop
+        the foreground at its next primitive boundary. Safe to call from a
+        signal handler at any moment: it only sets flags and pulls the
+        deadline in."""
+        self.leave_signal = self.leave_signal or leave
         self.break_pending = True
         self.deadline = -1
 
@@ -319,7 +324,7 @@ class Inner:
         finally:
             self.board.stop_motors()
         e = as_forth_error(exc) if not isinstance(exc, Bye) else ForthError(-290, "BYE")
-        text = e.display() if e.message or e.word else "ABORT"
+        text = {-1: "ABORT", -56: "QUIT"}.get(e.code) or e.display()
         return ForthError(-290, "%s in the tick handler %s; tick stopped, INSTALL "
                           "restarts it" % (text, self.handler_name(xt)))
 
@@ -333,12 +338,13 @@ class Inner:
 
     def reschedule(self):
         """Recompute the deadline after an interrupt source changed."""
-        d = min(self.hk_next, self.clock_limit)
         src = self.irq
         if self.masked:
-            d = min(d, self.handler_deadline)
-        elif src is not None and src.due is not None:
-            d = min(d, src.due)
+            d = min(self.hk_next, self.handler_deadline)
+        else:
+            d = min(self.hk_next, self.clock_limit)
+            if src is not None and src.due is not None:
+                d = min(d, src.due)
         if self.break_pending and not self.masked:
             d = -1
         self.deadline = d
@@ -349,7 +355,7 @@ class Inner:
         self.s, self.rs = self.irq_s, self.irq_rs
         self.masked = True
         self.handler_deadline = self.clock + HANDLER_LIMIT
-        self.deadline = min(self.hk_next, self.clock_limit, self.handler_deadline)
+        self.deadline = min(self.hk_next, self.handler_deadline)
         self.interrupts += 1
         try:
             src.service(self)

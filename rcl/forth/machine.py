@@ -68,6 +68,7 @@ class Forth(Inner, Outer):
         self.read_line = None          # callable() -> line, for ACCEPT
         self.key_ready = None          # callable() -> bool, for KEY?
         self.in_input = False          # waiting in read_key/read_line
+        self.in_forth = 0              # evaluate/include calls under way
         self._init_inner()
         self._init_outer()
         from rcl.words.blocks import BlockFile
@@ -232,20 +233,24 @@ class Forth(Inner, Outer):
         at the next primitive boundary of the foreground; waiting for input
         (`self.in_input`) it interrupts at once. Only where Python's own
         Ctrl-C handler is in place (the main thread, not nested)."""
-        if threading.current_thread() is not threading.main_thread() \
-                or signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
-            yield
-            return
-
-        def on_sigint(signum, frame):
-            if self.in_input:
-                raise KeyboardInterrupt
-            self.request_break()
-        signal.signal(signal.SIGINT, on_sigint)
+        self.in_forth += 1
         try:
-            yield
+            if threading.current_thread() is not threading.main_thread() \
+                    or signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+                yield
+                return
+
+            def on_sigint(signum, frame):
+                if self.in_input:
+                    raise KeyboardInterrupt
+                self.request_break()
+            signal.signal(signal.SIGINT, on_sigint)
+            try:
+                yield
+            finally:
+                signal.signal(signal.SIGINT, signal.default_int_handler)
         finally:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
+            self.in_forth -= 1
 
     def guarded(self, action):
         """Run action; any error aborts the machine and raises ForthError."""

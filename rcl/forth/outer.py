@@ -267,7 +267,7 @@ class Outer:
         then the motors off again, whatever the hook did. The hook gets a
         second of virtual time; a broken hook must not hide the error."""
         self.board.stop_motors()
-        self.break_pending = False
+        self.break_pending = bool(self.leave_signal)   # Ctrl-C is answered; a quit is not
         limit = self.clock_limit
         self.clock_limit = min(limit, self.clock + ON_ABORT_LIMIT)
         try:

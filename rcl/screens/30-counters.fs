@@ -21,8 +21,8 @@ END-CODE
    INT-OFF  STOCK-CONTROL @ ?DUP IF  ['] CONTROL >BODY !  THEN
    USER-TICK GET-INT  2DUP ['] CONTROL GET-CS D= IF 2DROP ELSE OLD-TICK 2! THEN
    ['] CONTROL GET-CS USER-TICK SET-INT  6667 SET-TIMER
-   INSTALLED @ 0= IF  INIT-COUNTERS RCL-RATE  INSTALLED ON  THEN  \ once: the
-   UNMASK INT-ON ;                     \ counts and time of day go on after
+   PER-DAY@ 8640000. D= 0= IF  INIT-COUNTERS RCL-RATE  THEN   \ a board not
+   INSTALLED ON  UNMASK INT-ON ;       \ yet set up; else counts and time go on
 : UNINSTALL  ( -- )   \ back to the BIOS's own tick
    INT-OFF  STOP  OLD-TICK 2@ USER-TICK SET-INT
    36617 SET-TIMER  BIOS-RATE  INSTALLED OFF  INT-ON ;

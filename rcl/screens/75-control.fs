@@ -30,11 +30,10 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
 \ Count N (50..65535, from >REF) makes 1,500,000 / N crpm, a quotient and a
 \ remainder in 1/N crpm: the remainders add up in N-PART and carry.
 : ADVANCE  ( N -- )   \ q moves on by one tick at count N, exactly
-   DUP N-NOW !  DUP >R  1500000. ROT UM/MOD SWAP       ( quot rem ) ( R: N )
-   N-PART @  R@ 2 PICK -                               ( quot rem part N-rem )
+   DUP N-NOW !  >R  1500000. R@ UM/MOD SWAP            ( quot rem ) ( R: N )
+   N-PART @  R> 2 PICK -                               ( quot rem part N-rem )
    2DUP U< IF  DROP +  ELSE  - NIP  SWAP 1+ SWAP  THEN ( quot' part' )
-   N-PART !  R> DROP
-   Q-PART @ +  1200 /MOD  SWAP Q-PART !  0 Q-AT 2@ D+ Q-AT 2! ;
+   N-PART !  Q-PART @ +  1200 /MOD  SWAP Q-PART !  Q-AT 2@ ROT M+ Q-AT 2! ;
 : NEW-SPEED  ( dq -- v )   \ the speed at commanded progress q
    2DUP ACC-AT 2@ D< IF  2DROP SPEED-NOW @ ACCEL @ + TOP-SPEED @ MIN  EXIT THEN
    DEC-AT 2@ D< IF  TOP-SPEED @  EXIT THEN
