@@ -32,6 +32,7 @@ class Board:
     due                    clock value of the next interrupt, or None
     service(machine)       handle what fell due (interrupts masked)
     stop_motors()          safe state, whatever happens (errors, Ctrl-C)
+    trace(file) -> rec     an observation hook: record each tick that changed
     """
 
     due = None
@@ -69,6 +70,13 @@ class Board:
 
     def stop_motors(self):
         pass
+
+    def trace(self, file=None):
+        """Start recording the board, a row per tick in which something
+        changed (CSV to `file` if given); -> the recorder, with `rows`,
+        `FIELDS` and `stop()` (rcl.track reads it), or None when this board
+        keeps no trace."""
+        return None
 
 
 class NullBoard(Board):
