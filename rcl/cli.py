@@ -210,7 +210,9 @@ def run(argv):
 
     def record(m):
         try:
-            recording.append(Recording(m, args.trace, args.plot))
+            title = " ".join(["rcl"] + [os.path.basename(f) for f in args.files]
+                             + ["-e '%s'" % w for w in args.words])
+            recording.append(Recording(m, args.trace, args.plot, title))
         except RecordingError as e:
             sys.stderr.write("rcl: %s\n" % e)
             raise SystemExit(2)

@@ -112,6 +112,8 @@ def draw_path(ax, track):
     trips = track.trips()
     every = max(2.0, max(max(x) - min(x), max(y) - min(y)) / 25)
     for k, (first, last) in enumerate(trips):
+        # each trip drawn from the row after the last one's to its next start
+        first = 0 if k == 0 else trips[k - 1][1]
         last = trips[k + 1][0] if k + 1 < len(trips) else track.n - 1
         line, = ax.plot(x[first:last + 1], y[first:last + 1], color=trip_colour(k), lw=1.4,
                         label="trip %d" % (k + 1) if len(trips) > 1 else "path")

@@ -22,8 +22,9 @@ class RecordingError(RclError):
 
 
 class Recording:
-    def __init__(self, m, trace_path=None, plot_path=None):
+    def __init__(self, m, trace_path=None, plot_path=None, title=None):
         self.m, self.trace_path, self.plot_path = m, trace_path, plot_path
+        self.title = title
         self.tmp = self.file = None
         if plot_path:
             from rcl import plot
@@ -68,7 +69,7 @@ class Recording:
         if self.plot_path:
             from rcl.words.tracing import plot_to
             try:
-                plot_to(self.m, self.plot_path)
+                plot_to(self.m, self.plot_path, self.title)
             except RclError as e:
                 errors.append("--plot: %s" % (getattr(e, "message", None) or e))
         return errors

@@ -52,13 +52,13 @@ def ferr_limit(m):
     return m.memory.fetch((hit[0] + 2) & 0xFFFF) if hit else FERR_LIMIT
 
 
-def plot_to(m, name):
+def plot_to(m, name, title=None):
     """Draw the trace kept so far to the file `name`."""
     from rcl import plot
     from rcl.track import Track
     rec = kept(m)
     try:
-        plot.draw(Track.of(rec), name, ferr_limit=ferr_limit(m))
+        plot.draw(Track.of(rec), name, title, ferr_limit=ferr_limit(m))
     except plot.PlotError as e:
         raise ForthError(-37, str(e)) from None
 
