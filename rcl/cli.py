@@ -1,7 +1,7 @@
 """The `rcl` command line: choose a machine, load files, run words, then
 read standard input, either at an interactive prompt or as a pipe.
 
-    rcl [--bare] [FILE ...] [-e WORDS] [--trace CSV] [--plot PNG] [--version]
+    rcl [--bare] [--image FILE] [FILE ...] [-e WORDS] [--trace CSV] [--plot PNG]
 
     make_machine(args) --> load FILEs in order --> run each -e WORDS
         --> stdin is a terminal?  yes: repl.Repl (the ok prompt)
@@ -99,10 +99,18 @@ class LineFeed:
 # ----------------------------------------------------------------- machine
 def make_machine(args, write):
     """The machine the command line drives: the simulated board (rcl.open)
-    unless --bare asks for plain Forth."""
-    if args.bare:
-        return rcl.Forth(write=write)
-    return rcl.open(write=write, realtime=args.realtime)
+    unless --bare asks for plain Forth; from a saved system with --image."""
+    from rcl.forth.image import ImageError, load
+    try:
+        if args.bare:
+            m = rcl.Forth(write=write)
+            if args.image:
+                load(m, args.image)
+            return m
+        return rcl.open(write=write, realtime=args.realtime, image=args.image)
+    except ImageError as e:
+        sys.stderr.write("rcl: --image: %s\n" % e)
+        raise SystemExit(2) from None
 
 
 def describe(args):
@@ -122,6 +130,8 @@ def parse_args(argv):
                    help="a bare F83 machine, no board and no RCL screens")
     p.add_argument("--realtime", action="store_true",
                    help="the simulated robot keeps pace with the wall clock")
+    p.add_argument("--image", metavar="FILE",
+                   help="start from a system saved by SAVE-SYSTEM (not the RCL screens)")
     p.add_argument("--trace", metavar="FILE.csv",
                    help="write the board's trace (a row per tick that changed) at the end")
     p.add_argument("--plot", metavar="FILE.png",
