@@ -33,6 +33,9 @@ class Recording:
                 plot.require_matplotlib()
             except plot.PlotError as e:
                 raise RecordingError("--plot: %s" % e) from None
+            folder = os.path.dirname(os.path.abspath(plot_path))
+            if not os.path.isdir(folder):
+                raise RecordingError("--plot: no folder %s to write %s in" % (folder, plot_path))
         if trace_path:
             self.file = self.open_temporary(trace_path)
         try:
