@@ -87,7 +87,7 @@ def figure(track, title=None, ferr_limit=FERR_LIMIT):
     pos_axes = fig.add_subplot(grid[1, 1], sharex=speed_axes)
     ferr_axes = fig.add_subplot(grid[2, 1], sharex=speed_axes)
     times, cuts = track.motion_time()
-    draw_path(path_axes, track)
+    draw_path(path_axes, track, ferr_limit)
     draw_speeds(speed_axes, track, times)
     draw_positions(pos_axes, track, times)
     draw_following(ferr_axes, track, times, ferr_limit)
@@ -104,7 +104,7 @@ def trip_colour(k):
     return "C%d" % (k % 10)
 
 
-def draw_path(ax, track):
+def draw_path(ax, track, limit=FERR_LIMIT):
     """Top view in feet at equal scale: each trip its colour, heading
     arrows, start and end, stops and beeps."""
     x = [v / 12 for v in track.x]
@@ -133,7 +133,7 @@ def draw_path(ax, track):
         b = ax.plot([x[i] for i in beeps], [y[i] for i in beeps], "*", color="crimson", ms=9,
                     label="beeps (%d)" % len(beeps))[0]
         b.set_gid("beeps")
-    for i, wheel in tripped(track, FERR_LIMIT):
+    for i, wheel in tripped(track, limit):
         ax.plot(x[i], y[i], "X", color="red", ms=14, label="following error (%s)" % wheel)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x, feet")

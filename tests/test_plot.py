@@ -214,3 +214,18 @@ def test_rcl_plot_without_matplotlib_names_the_extra_and_runs_nothing(tmp_path):
                           cwd=tmp_path, env=env)
     assert done.returncode == 2 and done.stdout == ""
     assert "pip install 'rcl[plot]'" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_plot_draws_the_limit_rcl_has_now():
+    from rcl.words.tracing import ferr_limit
+    m = rcl.open()
+    m.evaluate("50 FERR-LIMIT !")
+    assert ferr_limit(m) == 50
+    assert ferr_limit(rcl.Forth()) == 100                  # no RCL: its power-on value
+
+
+@needs_matplotlib
+def test_the_limit_line_follows_the_limit_given_and_the_square_stays_under_50(square):
+    fig = plot.figure(square, ferr_limit=50)
+    assert artist(fig, "ferr-limit").get_ydata()[0] == 50
+    assert not [a for ax in fig.axes for a in ax.get_children() if a.get_gid() == "tripped"]
