@@ -15,19 +15,36 @@ __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 SCREENS = os.path.join(os.path.dirname(__file__), "screens")
 
 
-def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's name)
+def open(realtime=False, write=None, screens=True, image=None):  # noqa: A001  (DESIGN.md's name)
     """A running system: a machine wired to a simulated board with RCL
     loaded and INSTALL run (screens=False: the board alone), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
-    realtime=True the virtual clock keeps pace with the wall clock."""
+    realtime=True the virtual clock keeps pace with the wall clock.
+    image="file": the system SAVE-SYSTEM wrote instead of the screens, its
+    interrupt handler installed again (rcl.forth.image.ImageError if the
+    file is refused)."""
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
     board = SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
-    if screens:
+    if image is not None:
+        start_image(m, image)
+    elif screens:
         m.include(os.path.join(SCREENS, "rcl.fs"))
     if realtime:
         board.pacer = Pacer(m.clock)
     return m
+
+
+def start_image(m, path):
+    """Load a saved system onto m's fresh board: if RCL was installed when
+    it was saved, INSTALL again (the vector, timer and counters are the
+    board's, not the image's), then the safe state (relays off)."""
+    from rcl.forth import image
+    image.load(m, path)
+    hit = m.dictionary.find("INSTALLED")
+    if hit is not None and m.memory.fetch((hit[0] + 2) & 0xFFFF) and m.dictionary.find("INSTALL"):
+        m.evaluate("INSTALL")
+    m.safe_state()

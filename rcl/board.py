@@ -34,6 +34,7 @@ class Board:
     stop_motors()          safe state, whatever happens (errors, Ctrl-C)
     tick_failed()          the interrupt handler failed: motors off, and no
                            more ticks until the software sets the timer again
+    trace(file) -> rec     an observation hook: record each tick that changed
     """
 
     due = None
@@ -74,6 +75,13 @@ class Board:
 
     def tick_failed(self):
         self.stop_motors()
+
+    def trace(self, file=None):
+        """Start recording the board, a row per tick in which something
+        changed (CSV to `file` if given); -> the recorder, with `rows`,
+        `FIELDS` and `stop()` (rcl.track reads it), or None when this board
+        keeps no trace."""
+        return None
 
 
 class NullBoard(Board):

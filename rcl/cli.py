@@ -1,7 +1,7 @@
 """The `rcl` command line: choose a machine, load files, run words, then
 read standard input, either at an interactive prompt or as a pipe.
 
-    rcl [--bare] [FILE ...] [-e WORDS] [--version]
+    rcl [--bare] [--image FILE] [FILE ...] [-e WORDS] [--trace CSV] [--plot PNG]
 
     make_machine(args) --> load FILEs in order --> run each -e WORDS
         --> stdin is a terminal?  yes: repl.Repl (the ok prompt)
@@ -104,10 +104,18 @@ class LineFeed:
 # ----------------------------------------------------------------- machine
 def make_machine(args, write):
     """The machine the command line drives: the simulated board (rcl.open)
-    unless --bare asks for plain Forth."""
-    if args.bare:
-        return rcl.Forth(write=write)
-    return rcl.open(write=write, realtime=args.realtime)
+    unless --bare asks for plain Forth; from a saved system with --image."""
+    from rcl.forth.image import ImageError, load
+    try:
+        if args.bare:
+            m = rcl.Forth(write=write)
+            if args.image:
+                load(m, args.image)
+            return m
+        return rcl.open(write=write, realtime=args.realtime, image=args.image)
+    except ImageError as e:
+        sys.stderr.write("rcl: --image: %s\n" % e)
+        raise SystemExit(2) from None
 
 
 def describe(args):
@@ -127,6 +135,13 @@ def parse_args(argv):
                    help="a bare F83 machine, no board and no RCL screens")
     p.add_argument("--realtime", action="store_true",
                    help="the simulated robot keeps pace with the wall clock")
+    p.add_argument("--image", metavar="FILE",
+                   help="start from a system saved by SAVE-SYSTEM (not the RCL screens)")
+    p.add_argument("--trace", metavar="FILE.csv",
+                   help="write the board's trace (a row per tick that changed) at the end")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="draw path, wheel speeds and following error at the end "
+                        "(.png .svg .pdf; needs the extra rcl[plot])")
     p.add_argument("--version", action="version", version="rcl " + version())
     return p.parse_intermixed_args(argv)
 
@@ -233,15 +248,41 @@ def robot_safe_at_exit(m):
 
 # -------------------------------------------------------------------- main
 def run(argv):
+    """Run with --trace/--plot recorded from start to end, whatever ends it."""
     args = parse_args(argv)
     if sys.stdout is None:
         raise StdoutClosed("standard output is closed")
+    if not (args.trace or args.plot):
+        return run_machine(args)
+    from rcl.recording import Recording, RecordingError
+    recording = []
+
+    def record(m):
+        try:
+            title = " ".join(["rcl"] + [os.path.basename(f) for f in args.files]
+                             + ["-e '%s'" % w for w in args.words])
+            recording.append(Recording(m, args.trace, args.plot, title))
+        except RecordingError as e:
+            sys.stderr.write("rcl: %s\n" % e)
+            raise SystemExit(2)
+    try:
+        status = run_machine(args, record)
+    finally:
+        for error in recording[0].finish() if recording else ():
+            sys.stderr.write("rcl: %s\n" % error)
+            status = 1
+    return status
+
+
+def run_machine(args, record=None):
     for stream in (sys.stdout, sys.stderr, sys.stdin):
         if hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="replace")
     interactive = sys.stdin is not None and sys.stdin.isatty()
     out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty())
     m = make_machine(args, out.write)
+    if record:
+        record(m)
     with robot_safe_at_exit(m):
         return drive(m, args, out, interactive)
 

@@ -2,6 +2,7 @@
 numbers, junk, unbalanced control structures, hostile addresses and deep
 recursion. No Python exception escapes evaluate, no line runs forever (a
 step budget), and after each line a canary word still works."""
+import os
 import string
 
 import pytest
@@ -19,6 +20,12 @@ from rcl.forth.memory import MASK
 STORES = {"!", "C!", "2!", "+!", "ON", "OFF", "FILL", "ERASE", "BLANK", "CMOVE",
           "CMOVE>", "MOVE", "DEFER!", "EXECUTE", "CATCH", "COMPILE,", "UPPER", "ACCEPT",
           "EXPECT", "HIDE", "REVEAL", "BYE"}
+# Words that write, rename or delete the host's files under names taken from
+# random memory: not for a fuzz run in somebody's working tree.
+HOST_FILES = {"SAVE-SYSTEM", "SAVE-TRACE", "PLOT", "CREATE-FILE", "DELETE-FILE",
+              "RENAME-FILE", "WRITE-FILE", "WRITE-LINE", "RESIZE-FILE", "OPEN-FILE",
+              "USING", "FLUSH", "SAVE-BUFFERS", "UPDATE", "INCLUDED", "INCLUDE-FILE",
+              "REQUIRED", "INCLUDE", "REQUIRE"}
 CONTROL = [":", ";", "IF", "ELSE", "THEN", "BEGIN", "UNTIL", "WHILE", "REPEAT",
            "AGAIN", "DO", "?DO", "LOOP", "+LOOP", "LEAVE", "CASE", "OF", "ENDOF",
            "ENDCASE", "DOES>", "[", "]", "(", ")", '."', '"', 'S"', "\\", "RECURSE"]
@@ -35,15 +42,24 @@ _machine.step_limit = 20_000
 NAMES = sorted(n for n in (_machine.dictionary.name_of((lfa + 2) & MASK)
                            for wid in (_machine.forth_wid, _machine.root_wid)
                            for lfa in _machine.dictionary.lfas(wid))
-               if n and n not in STORES and n != "CANARY")
+               if n and n not in STORES | HOST_FILES and n != "CANARY")
 
 junk = st.text(alphabet=string.ascii_letters + string.digits + string.punctuation,
-               min_size=1, max_size=8).filter(lambda w: w.upper() not in STORES)
+               min_size=1, max_size=8).filter(lambda w: w.upper() not in STORES | HOST_FILES)
 numbers = st.one_of(st.integers(-2**33, 2**33).map(str), st.sampled_from(ADDRESSES),
                     st.builds(lambda a, b: "%d.%d" % (a, b), st.integers(-999, 999),
                               st.integers(0, 99999)))
 token = st.one_of(st.sampled_from(NAMES), numbers, junk, st.sampled_from(CONTROL))
 line = st.one_of(st.lists(token, max_size=12).map(" ".join), st.sampled_from(RECURSION))
+
+
+@pytest.fixture(autouse=True, scope="module")
+def in_a_scratch_folder(tmp_path_factory):
+    """Whatever a random line still does to files happens in a scratch folder."""
+    cwd = os.getcwd()
+    os.chdir(tmp_path_factory.mktemp("fuzz"))
+    yield
+    os.chdir(cwd)
 
 
 def reset_user_state(m):

@@ -283,13 +283,26 @@ class SimBoard(Board):
         up to the end of the wait would just count: count them at once.
         (Each would have run at its own time with the same result.)"""
         target = m.waiting_until
-        if target is None or self.observers or self.pacer is not None \
-                or (self.vector(0x1C)[0] == FORTH_CS and not self.quiet):
+        if target is None or self.pacer is not None \
+                or (self.vector(0x1C)[0] == FORTH_CS and not self.quiet) \
+                or not self.observers_allow_batching():
             return False
         n = self.pcb.take_timer0_requests(target)
         self.ticks += n
         self.count_ticks(n)
         return n > 0
+
+    def observers_allow_batching(self):
+        """No observer needs to see each of the idle ticks about to be
+        counted at once: a Trace (`changes_only`) needs only the ticks in
+        which something changes, none while all is idle, so it is shown
+        the idle state the stretch starts from, now."""
+        if any(not getattr(o, "changes_only", False) for o in self.observers) \
+                or (self.observers and not self.is_idle()):
+            return False
+        for observe in self.observers:
+            observe(self)
+        return True
 
     def count_ticks(self, n):
         """Add n ticks to the BIOS time of day, wrapping at midnight (flag set)."""
@@ -346,8 +359,9 @@ class SimBoard(Board):
         m = self.machine
         cost, d = self.handler_cost, self.due
         period = self.tick_period()
-        if cost is None or d is None or cost >= period or self.observers \
-                or self.pacer is not None or not self.is_idle():
+        if cost is None or d is None or cost >= period \
+                or self.pacer is not None or not self.is_idle() \
+                or not self.observers_allow_batching():
             return n
         clock, ticks, last = m.clock, 0, None
         limit = m.clock_limit                     # a step budget still applies
@@ -373,6 +387,10 @@ class SimBoard(Board):
         m.reschedule()
         self.sync()
         return n
+
+    def trace(self, file=None):
+        from rcl.sim.observe import Trace     # observe builds on this module
+        return Trace(self, file, keep=True)
 
     def stop_motors(self):
         """Safe state: every relay open (wheels braked, arm and gripper off)."""

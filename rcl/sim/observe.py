@@ -122,29 +122,39 @@ class Trace:
     """One CSV row per tick in which something changed (so a whole day does
     not make gigabytes): time, pose, wheel counts, references, relays, arm,
     jaw, beeper. Attach with `Trace(board, file)`; rows go to `file` (any
-    text stream) and, for tests, to `rows` when `keep` is true."""
+    text stream) and to `rows` when `keep` is true (rcl.track reads them);
+    `stop()` detaches it.
+
+    It needs only the ticks in which something changes, so it does not
+    stop the board from counting idle ticks in one go (`changes_only`)."""
 
     FIELDS = ["t", "x", "y", "heading", "left", "right", "ref_left", "ref_right",
               "motor", "aux", "arm", "jaw", "beeper"]
+    changes_only = True
 
     def __init__(self, board, file=None, keep=False):
         self.board = board
+        self.file = file
         self.writer = csv.writer(file) if file is not None else None
         if self.writer:
             self.writer.writerow(self.FIELDS)
         self.rows = [] if keep else None
         self.last = None
-        board.observers.append(self.tick)
+        board.sync()
+        self(board)                       # where it starts
+        board.observers.append(self)
 
     def state(self, board):
+        # the beeper sounds exactly while its latch bit is set (the drive's
+        # own flag is brought up to date only while something moves)
         d = board.drive
         ref = board.refs
         return (round(d.robot.x, 4), round(d.robot.y, 4), round(d.robot.heading, 4),
                 d.left.position, d.right.position, round(ref[0], 3), round(ref[1], 3),
                 board.motor_latch, board.aux_latch, round(d.lift.position, 4),
-                round(d.gripper.opening, 4), int(d.beeper))
+                round(d.gripper.opening, 4), int(bool(board.aux_latch & C.BEEPER)))
 
-    def tick(self, board):
+    def __call__(self, board):
         state = self.state(board)
         if state == self.last:
             return
@@ -154,3 +164,12 @@ class Trace:
             self.writer.writerow(row)
         if self.rows is not None:
             self.rows.append(row)
+
+    tick = __call__
+
+    def stop(self):
+        """Detach from the board (the rows kept stay)."""
+        if self in self.board.observers:
+            self.board.observers.remove(self)
+        if self.file is not None:
+            self.file.flush()

@@ -1,0 +1,309 @@
+"""Pictures of a trace (rcl.track.Track), drawn with matplotlib (the
+optional extra rcl[plot]); the same for the simulated board and for what a
+host saw of a real one.
+
+    +-----------------+  speed: each wheel's counts per tick as in/s, the
+    |                 |         commanded speed dashed, each move's
+    |  path, top view |         acceleration end ^ and deceleration start v
+    |  (equal scale)  |  position: along each move, commanded (dashed)
+    |  start o end [] |         against the encoders
+    |  arrows, stops, |  following error: commanded minus encoder, with
+    |  beeps, trips   |         RCL's limit; a trip is marked x
+    +-----------------+
+
+Every artist a test may look for carries a gid (`path-1` for trip 1,
+`start`, `end`, `beeps`, `stops`, `speed-left`, `acc-end`, `dec-start`,
+`ferr-left`, `ferr-limit`, `tripped`), which SVG output keeps as the id
+of the artist's group.
+"""
+import io
+import math
+import os
+
+from rcl.errors import RclError
+from rcl.safefile import write_atomically
+from rcl.track import COUNTS_PER_INCH
+
+FORMATS = ("png", "svg", "pdf")
+EXTRA = "matplotlib is not installed: plots need the extra, pip install 'rcl[plot]'"
+WHEEL_COLOURS = {"left": "tab:blue", "right": "tab:orange"}
+DPI = 80
+FERR_LIMIT = 100              # counts: RCL's FERR-LIMIT at power-on
+
+
+class PlotError(RclError):
+    """A plot cannot be made (no matplotlib, an unknown file type, no data)."""
+
+
+def require_matplotlib():
+    """Raise PlotError naming the extra when matplotlib is missing."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise PlotError(EXTRA) from None
+
+
+def check_name(path):
+    """The file type from the name: png, svg or pdf, else PlotError."""
+    ext = os.path.splitext(path)[1].lower().lstrip(".")
+    if ext not in FORMATS:
+        raise PlotError("a plot is a .png, .svg or .pdf file, not %r" % path)
+    return ext
+
+
+def draw(track, path, title=None, ferr_limit=FERR_LIMIT):
+    """Draw the track to path (png, svg or pdf by its name); -> the Figure."""
+    ext = check_name(path)
+    fig = figure(track, title, ferr_limit)
+    try:
+        write_atomically(path, lambda f: save(fig, f, ext))
+    except OSError as e:
+        raise PlotError("%s: %s" % (path, e.strerror)) from None
+    return fig
+
+
+def save(fig, f, ext):
+    """PNG in 256 colours (a plot has few: a third of the size), others as is."""
+    if ext != "png":
+        fig.savefig(f, format=ext)
+        return
+    from PIL import Image                 # matplotlib's own dependency
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=DPI)
+    buf.seek(0)
+    Image.open(buf).convert("RGB").quantize(256).save(f, format="png", optimize=True)
+
+
+def figure(track, title=None, ferr_limit=FERR_LIMIT):
+    """-> a matplotlib Figure of the track (no window, no pyplot)."""
+    require_matplotlib()
+    from matplotlib.figure import Figure
+    if track.n < 2:
+        raise PlotError("nothing to plot: the trace holds %d row(s)" % track.n)
+    fig = Figure(figsize=(13, 7.5), layout="constrained")
+    grid = fig.add_gridspec(3, 2, width_ratios=(1.05, 1))
+    path_axes = fig.add_subplot(grid[:, 0])
+    speed_axes = fig.add_subplot(grid[0, 1])
+    pos_axes = fig.add_subplot(grid[1, 1], sharex=speed_axes)
+    ferr_axes = fig.add_subplot(grid[2, 1], sharex=speed_axes)
+    times, cuts = track.motion_time()
+    draw_path(path_axes, track, ferr_limit)
+    draw_speeds(speed_axes, track, times)
+    draw_positions(pos_axes, track, times)
+    draw_following(ferr_axes, track, times, ferr_limit)
+    for ax in (speed_axes, pos_axes, ferr_axes):
+        mark_cuts(ax, track, times, cuts)
+    ferr_axes.set_xlabel("time, s" + ("  (waits cut to 2 s at the dotted lines)" if cuts else ""))
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+# ------------------------------------------------------------------ path
+def trip_colour(k):
+    return "C%d" % (k % 10)
+
+
+def draw_path(ax, track, limit=FERR_LIMIT):
+    """Top view in feet at equal scale: each trip its colour, heading
+    arrows, start and end, stops and beeps."""
+    x = [v / 12 for v in track.x]
+    y = [v / 12 for v in track.y]
+    trips = track.trips()
+    every = max(2.0, max(max(x) - min(x), max(y) - min(y)) / 25)
+    for k, (first, last) in enumerate(trips):
+        # each trip drawn from the row after the last one's to its next start
+        first = 0 if k == 0 else trips[k - 1][1]
+        last = trips[k + 1][0] if k + 1 < len(trips) else track.n - 1
+        line, = ax.plot(x[first:last + 1], y[first:last + 1], color=trip_colour(k), lw=1.4,
+                        label="trip %d" % (k + 1) if len(trips) > 1 else "path")
+        line.set_gid("path-%d" % (k + 1))
+        draw_arrows(ax, track, x, y, first, last, trip_colour(k), every)
+    if len(trips) > 1:
+        mark_trip_ends(ax, track, x, y, trips)
+    start = ax.plot(x[0], y[0], "o", ms=10, mfc="none", mec="green", mew=2, label="start")[0]
+    start.set_gid("start")
+    end = ax.plot(x[-1], y[-1], "s", ms=9, mfc="none", mec="red", mew=2,
+                  label="end, %s from the start" % feet(math.hypot(x[-1] - x[0], y[-1] - y[0])))[0]
+    end.set_gid("end")
+    ax.plot([x[0], x[-1]], [y[0], y[-1]], ":", color="red", lw=1)
+    draw_stops(ax, track, x, y)
+    beeps = track.beeps()
+    if beeps:
+        b = ax.plot([x[i] for i in beeps], [y[i] for i in beeps], "*", color="crimson", ms=9,
+                    label="beeps (%d)" % len(beeps))[0]
+        b.set_gid("beeps")
+    for i, wheel in tripped(track, limit):
+        ax.plot(x[i], y[i], "X", color="red", ms=14, label="following error (%s)" % wheel)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x, feet")
+    ax.set_ylabel("y, feet")
+    ax.set_title("path, top view" + ("" if track.pose_known else " (dead-reckoned)"))
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8, ncol=2 if len(trips) > 3 else 1)
+
+
+def mark_trip_ends(ax, track, x, y, trips):
+    """Each trip's end, numbered; the first one's distance from the start."""
+    for k, (_, last) in enumerate(trips):
+        ax.plot(x[last], y[last], "s", ms=6, color=trip_colour(k), mec="black")
+        ax.annotate(str(k + 1), (x[last], y[last]), xytext=(4, -12),
+                    textcoords="offset points", fontsize=8, color=trip_colour(k))
+    last = trips[0][1]
+    d = math.hypot(x[last] - x[0], y[last] - y[0])
+    ax.annotate("trip 1 ends %s from the start" % feet(d), (x[last], y[last]),
+                xytext=(x[last], min(y) - 0.25 * (max(y) - min(y) + 1)), ha="center",
+                fontsize=9, arrowprops={"arrowstyle": "->", "color": "black"})
+
+
+def feet(d):
+    return "%.1f ft" % d if d >= 2 else "%.1f in" % (12 * d)
+
+
+def room_for_legend(ax, share=0.45):
+    """Raise the top of the axes so the legend sits above the data."""
+    low, high = ax.get_ylim()
+    ax.set_ylim(low, high + share * (high - low))
+
+
+def draw_arrows(ax, track, x, y, first, last, colour, every):
+    """The heading, an arrow every `every` feet of travel."""
+    px, py, hd, gone = [], [], [], every / 2
+    for i in range(first + 1, last + 1):
+        gone += math.hypot(x[i] - x[i - 1], y[i] - y[i - 1])
+        if gone >= every:
+            px.append(x[i])
+            py.append(y[i])
+            hd.append(math.radians(track.heading[i]))
+            gone = 0.0
+    if px:
+        ax.quiver(px, py, [math.cos(h) for h in hd], [math.sin(h) for h in hd],
+                  color=colour, angles="xy", scale=40, width=0.004, headwidth=4, alpha=0.8)
+
+
+def draw_stops(ax, track, x, y):
+    stops = track.stops()
+    if not stops:
+        return
+    sizes = [40 + 40 * math.log2(1 + s / 30) for _, s in stops]
+    sc = ax.scatter([x[i] for i, _ in stops], [y[i] for i, _ in stops], s=sizes,
+                    facecolors="none", edgecolors="black", linewidths=1.2,
+                    label="stops of 10 s or more (size: length)", zorder=3)
+    sc.set_gid("stops")
+
+
+# --------------------------------------------------------------- speeds
+def in_s(values):
+    return [v / COUNTS_PER_INCH for v in values]
+
+
+def draw_speeds(ax, track, times):
+    """Each wheel's speed and command, the breakpoints of every move."""
+    for wheel, colour in WHEEL_COLOURS.items():
+        line, = ax.plot(times, in_s(track.speed(wheel)), color=colour, lw=1,
+                        label="%s wheel" % wheel, drawstyle="steps-pre")
+        line.set_gid("speed-" + wheel)
+        ax.plot(times, in_s(track.reference(wheel)), "--", color=colour, lw=0.8,
+                label="%s commanded" % wheel, drawstyle="steps-post")
+    acc, dec = breakpoint_points(track, times)
+    ax.plot(*acc, "^", color="green", ms=6, label="acceleration ends")[0].set_gid("acc-end")
+    ax.plot(*dec, "v", color="purple", ms=6, label="deceleration begins")[0].set_gid("dec-start")
+    ax.set_ylabel("speed, in/s")
+    ax.set_title("wheel speeds and each move's breakpoints")
+    room_for_legend(ax)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper right", fontsize=7, ncol=3)
+
+
+def breakpoint_points(track, times):
+    """([t], [in/s]) of every acceleration end and deceleration start, on
+    the commanded speed of each wheel that moved."""
+    acc, dec = ([], []), ([], [])
+    for wheel in WHEEL_COLOURS:
+        ref = in_s(track.reference(wheel))
+        for move in track.moves:
+            bp = move.breakpoints[wheel]
+            if bp is None:
+                continue
+            for (ts, vs), i in ((acc, bp[0]), (dec, bp[1])):
+                ts.append(times[i])
+                vs.append(ref[i])
+    return acc, dec
+
+
+# ---------------------------------------------- position and following
+def draw_positions(ax, track, times):
+    """Along each move, counts from its start: commanded against encoder."""
+    for wheel, colour in WHEEL_COLOURS.items():
+        q, c, ref = track.commanded(wheel), track.col[wheel], track.reference(wheel)
+        for k, move in enumerate(track.moves):
+            rows = range(move.first, move.last + 1)
+            sign = -1 if ref[move.first] < 0 else 1
+            t = [times[i] for i in rows]
+            ax.plot(t, [sign * (q[i] - c[move.first]) for i in rows], "--", color=colour, lw=0.8,
+                    label="%s commanded" % wheel if k == 0 else None)
+            ax.plot(t, [sign * (c[i] - c[move.first]) for i in rows], color=colour, lw=1,
+                    label="%s encoder" % wheel if k == 0 else None)
+    ax.set_ylabel("counts along the move")
+    ax.set_title("commanded position against the encoders")
+    room_for_legend(ax)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper right", fontsize=7, ncol=2)
+
+
+def draw_following(ax, track, times, limit):
+    """Commanded minus encoder, RCL's limit, and where it tripped."""
+    for wheel, colour in WHEEL_COLOURS.items():
+        err = track.following_error(wheel)
+        t, e = gapped(err, times)
+        line, = ax.plot(t, e, color=colour, lw=1, label="%s wheel" % wheel)
+        line.set_gid("ferr-" + wheel)
+    lim = ax.axhline(limit, color="red", ls="--", lw=1, label="FERR-LIMIT %d counts" % limit)
+    lim.set_gid("ferr-limit")
+    ax.axhline(-limit, color="red", ls="--", lw=1)
+    trips = tripped(track, limit)
+    if trips:
+        errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
+        m = ax.plot([times[i] for i, _ in trips], [errs[w][i] for i, w in trips], "X",
+                    color="red", ms=12, label="following error: stopped")[0]
+        m.set_gid("tripped")
+    ax.set_ylabel("following error, counts")
+    ax.set_title("commanded minus encoder (following error)")
+    room_for_legend(ax)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper right", fontsize=7, ncol=3)
+
+
+def gapped(err, times):
+    """Lines for each move, broken between moves (None ends a line)."""
+    t, e, last = [], [], None
+    for i, v in err:
+        if last is not None and i != last + 1:
+            t.append(None)
+            e.append(None)
+        t.append(times[i])
+        e.append(v)
+        last = i
+    return [float("nan") if v is None else v for v in t], \
+        [float("nan") if v is None else v for v in e]
+
+
+def tripped(track, limit):
+    """(row, wheel) where a move's following error first passed the limit."""
+    out = []
+    for wheel in WHEEL_COLOURS:
+        err = dict(track.following_error(wheel))
+        for move in track.moves:
+            over = [i for i in range(move.first, move.last + 1) if abs(err.get(i, 0)) > limit]
+            if over:
+                out.append((over[0], wheel))
+    return sorted(out)
+
+
+def mark_cuts(ax, track, times, cuts):
+    for c in cuts:
+        ax.axvline(c, color="grey", ls=":", lw=0.6)
+    trips = track.trips()
+    if len(trips) > 1:
+        for k, (first, _) in enumerate(trips):
+            ax.axvline(times[first], color=trip_colour(k), lw=2, alpha=0.5)

@@ -1,0 +1,93 @@
+"""Seeing what the robot did: TRACE-ON TRACE-OFF SAVE-TRACE PLOT.
+
+The words reach the board only through its observation hook,
+`board.trace(file)` (rcl/board.py), and draw with rcl.plot from the rows
+it keeps, so the same words serve any board that keeps a trace.
+
+    TRACE-ON                 start a fresh trace (a row per tick that changed)
+    ... moves ...
+    PLOT square.png          draw what the trace holds so far (.png .svg .pdf)
+    SAVE-TRACE square.csv    the rows as CSV, as `rcl --trace` writes them
+    TRACE-OFF                stop recording (what was kept stays for PLOT)
+"""
+import csv
+
+from rcl.errors import ForthError
+from rcl.forth.primitives import prim
+from rcl.safefile import write_atomically
+from rcl.words.compiling import parse_word
+
+
+def tracer(m):
+    return getattr(m, "tracer", None)
+
+
+def start_trace(m, file=None):
+    """Start the machine's trace (a fresh one); -> the recorder."""
+    stop_trace(m)
+    rec = m.board.trace(file)
+    if rec is None:
+        raise ForthError(-21, "This board keeps no trace")
+    m.tracer = rec
+    return rec
+
+
+def stop_trace(m):
+    rec = tracer(m)
+    if rec is not None:
+        rec.stop()
+
+
+def kept(m):
+    rec = tracer(m)
+    if rec is None:
+        raise ForthError(-21, "No trace: TRACE-ON first")
+    return rec
+
+
+def ferr_limit(m):
+    """RCL's FERR-LIMIT now, for the plot's limit line (100 if not loaded)."""
+    from rcl.plot import FERR_LIMIT
+    hit = m.dictionary.find("FERR-LIMIT")
+    return m.memory.fetch((hit[0] + 2) & 0xFFFF) if hit else FERR_LIMIT
+
+
+def plot_to(m, name, title=None):
+    """Draw the trace kept so far to the file `name`."""
+    from rcl import plot
+    from rcl.track import Track
+    rec = kept(m)
+    try:
+        plot.draw(Track.of(rec), name, title, ferr_limit=ferr_limit(m))
+    except plot.PlotError as e:
+        raise ForthError(-37, str(e)) from None
+
+
+@prim("TRACE-ON", "( -- ) start a fresh trace of the board", kind="call")
+def trace_on(m):
+    start_trace(m)
+
+
+@prim("TRACE-OFF", "( -- ) stop tracing; PLOT still draws what was kept", kind="call")
+def trace_off(m):
+    stop_trace(m)
+
+
+@prim("PLOT", "( -- ) draw the trace so far to the file named next", kind="call")
+def plot_word(m):
+    plot_to(m, parse_word(m))
+
+
+@prim("SAVE-TRACE", "( -- ) write the trace so far as CSV to the file named next",
+      kind="call")
+def save_trace(m):
+    name, rec = parse_word(m), kept(m)
+
+    def write(f):
+        out = csv.writer(f)
+        out.writerow(rec.FIELDS)
+        out.writerows(rec.rows)
+    try:
+        write_atomically(name, write, binary=False)
+    except OSError as e:
+        raise ForthError(-37, "%s: %s" % (name, e.strerror)) from None
