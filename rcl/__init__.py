@@ -15,15 +15,16 @@ __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 SCREENS = os.path.join(os.path.dirname(__file__), "screens")
 
 
-def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's name)
+def open(realtime=False, write=None, screens=True, board=None):  # noqa: A001  (DESIGN.md's name)
     """A running system: a machine wired to a simulated board with RCL
     loaded and INSTALL run (screens=False: the board alone), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
-    realtime=True the virtual clock keeps pace with the wall clock."""
+    realtime=True the virtual clock keeps pace with the wall clock.
+    `board` is a fresh SimBoard (or subclass) to use instead of a new one."""
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
-    board = SimBoard()
+    board = board if board is not None else SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
     if screens:
