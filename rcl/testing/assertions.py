@@ -89,6 +89,7 @@ def pose_xy_heading(pose):
 
 
 def fail(m, expected, settled=0.0):
+    __tracebackhide__ = True      # pytest shows the caller's line
     rest = "\n  (after %.2f s for the wheels to roll to rest)" % settled if settled else ""
     raise AssertionError("expected %s%s\n%s" % (expected, rest, report(m)))
 
@@ -98,6 +99,7 @@ def assert_pose(m, x=None, y=None, heading=None, *, inches=0.1, degrees=0.5, set
     """The robot stands at x, y (inches, within `inches` each) facing
     `heading` (degrees, either way round, within `degrees`). Leave out
     what does not matter."""
+    __tracebackhide__ = True      # pytest shows the caller's line
     if x is None and y is None and heading is None:
         raise TypeError("assert_pose needs x, y or heading")
     settled = come_to_rest(m) if settle else 0.0
@@ -119,6 +121,7 @@ def wanted_pose(x, y, heading, inches, degrees):
 
 def assert_wheel_counts(m, left=None, right=None, *, counts=2, settle=True):
     """The encoders read left and right (forward minus reverse counts)."""
+    __tracebackhide__ = True      # pytest shows the caller's line
     settled = come_to_rest(m) if settle else 0.0
     wl, wr = m.sim.wheel_counts
     if (left is not None and abs(wl - left) > counts) or (right is not None and abs(wr - right) > counts):
@@ -128,6 +131,7 @@ def assert_wheel_counts(m, left=None, right=None, *, counts=2, settle=True):
 
 def assert_arm(m, height=None, jaw=None, *, inches=0.05):
     """The lift stands at `height` and the jaws are `jaw` apart (inches)."""
+    __tracebackhide__ = True      # pytest shows the caller's line
     arm, opening = m.sim.arm, m.sim.jaw
     if (height is not None and abs(arm - height) > inches) or \
             (jaw is not None and abs(opening - jaw) > inches):
@@ -137,6 +141,7 @@ def assert_arm(m, height=None, jaw=None, *, inches=0.05):
 
 def assert_no_following_error(m):
     """No wheel fell too far behind its reference (RCL's FERR is 0)."""
+    __tracebackhide__ = True      # pytest shows the caller's line
     ferr = variable(m, "FERR")
     if ferr is None:
         raise AssertionError("no FERR: RCL is not loaded on this machine")
@@ -146,6 +151,7 @@ def assert_no_following_error(m):
 
 def assert_motors_off(m):
     """No wheel is driven, and the arm and gripper motors are off."""
+    __tracebackhide__ = True      # pytest shows the caller's line
     if driving(m.sim):
         fail(m, "every motor off, but relays MOTOR %02X AUX %02X drive one" % m.sim.relays)
 
@@ -153,6 +159,7 @@ def assert_motors_off(m):
 def assert_time_of_day(m, when, *, seconds=0.5):
     """The board's clock reads `when`: "7:30 AM", "19:30:15" or seconds
     since midnight."""
+    __tracebackhide__ = True      # pytest shows the caller's line
     want = parse_time(when)
     now = time_of_day(m)
     off = (now - want + 43200.0) % 86400.0 - 43200.0
