@@ -48,6 +48,7 @@ class ForthFile(pytest.File):
         except ScanError as e:
             raise self.CollectError("%s:1: %s" % (self.path.name, e)) from None
         self.specs = specs
+        self.keys = {(spec.line, spec.column) for spec in specs}
         self.run_ = None
         yield ForthLoad.from_parent(self, name="load")
         for spec in specs:
@@ -61,11 +62,11 @@ class ForthFile(pytest.File):
     def load(self):
         from rcl.errors import ForthError
         from rcl.testing.plugin import machine
-        from rcl.words.tester import tester
+        from rcl.words.tester import state_of
         run, name = Run(), str(self.path)
         try:
             m = machine(self.config, self.mode)
-            tester(m).listener = lambda result: self.hear(m, run, name, result)
+            state_of(m).listener = lambda result: self.hear(m, run, name, result)
             m.include(name)
             run.output = m.take_output()
         except ForthError as e:
@@ -76,7 +77,7 @@ class ForthFile(pytest.File):
         if not result.ok and self.mode == "robot" and m.sim.board.moves.moves:
             from rcl.testing.assertions import report
             result.robot = report(m)         # only once the robot has moved
-        if result.file == name:
+        if result.file == name and (result.line, result.column) in self.keys:
             run.results.setdefault((result.line, result.column), []).append(result)
         else:
             run.others.append(result)
@@ -115,8 +116,8 @@ def error_text(parent, error):
 
 def result_text(result):
     where = "%s:%s: " % (shown(result.file), result.line) if result.file else ""
-    actual = "(%d cells taken from below T{)" % result.taken if result.actual is None \
-        else stack_text(result.actual)
+    from rcl.words.tester import taken_text
+    actual = taken_text(result.taken) if result.actual is None else stack_text(result.actual)
     lines = [where + result.message]
     lines.extend("    " + text.strip() for text in result.source)
     lines.append("  expected: " + stack_text(result.expected))
@@ -129,6 +130,11 @@ def result_text(result):
 
 def stack_text(cells):
     return " ".join(str(c) for c in cells) or "(empty)"
+
+
+def skip(reason):
+    """Skip, reported at the test's own file and line."""
+    raise pytest.skip.Exception(reason, _use_item_location=True)
 
 
 class ForthItem(pytest.Item):
@@ -170,9 +176,9 @@ class ForthTest(ForthItem):
         results = run.results.get((spec.line, spec.column))
         if not results:
             if run.error is not None:
-                pytest.skip("not reached: the load stopped at %s:%s"
-                            % (shown(run.error.file or "?"), run.error.line))
-            pytest.skip("T{ on line %d never ran" % spec.line)
+                skip("not reached: the load stopped at %s:%s"
+                     % (shown(run.error.file or "?"), run.error.line))
+            skip("T{ on line %d never ran" % spec.line)
         failed = [r for r in results if not r.ok]
         if failed:
             raise ForthTestFailure("\n".join(result_text(r) for r in failed))

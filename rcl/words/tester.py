@@ -48,7 +48,7 @@ class Tester:
         self.listener = None
 
 
-def tester(m):
+def state_of(m):
     state = getattr(m, "tester", None)
     if state is None:
         state = m.tester = Tester()
@@ -68,6 +68,10 @@ def cells(values):
     return [signed(v) for v in values]
 
 
+def taken_text(n):
+    return "(%d cell%s taken from below T{)" % (n, "" if n == 1 else "s")
+
+
 def stack_picture(m, values):
     """Cells bottom first in BASE, signed, or `(empty)`."""
     return " ".join(in_base(m, v) for v in values) or "(empty)"
@@ -75,7 +79,7 @@ def stack_picture(m, values):
 
 @prim("T{", "( -- ) start a test: note the depth and where it stands")
 def t_open(m):
-    state = tester(m)
+    state = state_of(m)
     state.depth = len(m.s)
     name, line, col, text = where(m)
     state.pending = Result(name, line, col, line, [text])
@@ -83,7 +87,7 @@ def t_open(m):
 
 @prim("->", "( i*x -- ) the test's results: keep them and take them off")
 def t_arrow(m):
-    state = tester(m)
+    state = state_of(m)
     result = state.pending or Result()
     state.pending = result
     short = state.depth - len(m.s)
@@ -97,7 +101,7 @@ def t_arrow(m):
 
 @prim("}T", "( j*x -- ) compare with the results -> kept, report, count errors")
 def t_close(m):
-    state = tester(m)
+    state = state_of(m)
     result, state.pending = state.pending or Result(), None
     result.expected = cells(m.s[state.depth:])
     del m.s[state.depth:]
@@ -130,8 +134,8 @@ def judge(result):
 
 def complain(m, result):
     """The standard tester's message and line, then the two stacks."""
-    actual = "(%d cells taken from below T{)" % result.taken \
-        if result.actual is None else stack_picture(m, result.actual)
+    actual = taken_text(result.taken) if result.actual is None \
+        else stack_picture(m, result.actual)
     m.type("%s: %s\n  expected: %s\n  actual:   %s\n" % (
         result.message, " / ".join(s.strip() for s in result.source),
         stack_picture(m, result.expected), actual))
