@@ -60,3 +60,13 @@ def test_the_prompt_shows_a_failed_test_as_the_page_says():
     page = DOC.read_text()
     screen = re.search(r"```\n(T\{ 1 2 \+ -> 4 \}T.*?)```", page, re.S).group(1)
     assert rcl.Forth().session("T{ 1 2 + -> 4 }T") == screen
+
+
+def test_the_readmes_few_lines_pass_beside_the_articles_box(pytester):
+    readme = (DOC.parent.parent / "README.md").read_text()
+    section = readme[readme.index("## Testing your programs"):readme.index("## The Forth")]
+    (forth, fs), (python, py) = re.findall(r"```(forth|python)\n(.*?)```", section, re.S)
+    (pytester.path / "box.fs").write_text(example_files()["box.fs"])
+    (pytester.path / "test_box.fs").write_text(fs)
+    (pytester.path / "test_box.py").write_text(py)
+    run(pytester).assert_outcomes(passed=4)
