@@ -120,3 +120,19 @@ def test_configured_files_are_loaded_before_each_test_file(pytester):
     pytester.makefile(".fs", test_a="T{ SIDE EXPECTED -> 1193. }T\n",
                       test_b="\\ rcl: bare\nT{ 3 SQ -> 9 }T\n")
     run(pytester).assert_outcomes(passed=4)
+
+
+def test_an_error_after_a_finished_test_on_its_line_fails_load_not_the_test(pytester):
+    pytester.makefile(".fs", test_after="T{ 1 -> 1 }T  NOSUCH\n")
+    result = run(pytester)
+    result.assert_outcomes(passed=1, failed=1)
+    result.stdout.fnmatch_lines(["*test_after.fs: load*", "test_after.fs:1: NOSUCH  ?"])
+
+
+def test_a_configured_file_that_is_missing_is_named(pytester):
+    pytester.makeini("[pytest]\nrcl_load = lib/nowhere.fs\n")
+    pytester.makefile(".fs", test_a="T{ 1 -> 1 }T\n")
+    result = run(pytester)
+    result.assert_outcomes(failed=1, skipped=1)
+    result.stdout.fnmatch_lines(["*nowhere.fs  File not found",
+                                 "SKIPPED*not reached: the load stopped at *nowhere.fs  File not found"])

@@ -82,12 +82,14 @@ class ForthFile(pytest.File):
         else:
             run.others.append(result)
 
-    def spec_of_error(self, error):
-        """The test whose lines hold the error, or None."""
+    def spec_of_error(self, run):
+        """The test that was running when the load stopped, or None."""
+        error = run.error
         if error is None or error.file != str(self.path) or error.line is None:
             return None
         for spec in self.specs:
-            if spec.line <= error.line <= spec.end_line:
+            if spec.line <= error.line <= spec.end_line \
+                    and (spec.line, spec.column) not in run.results:
                 return spec
         return None
 
@@ -105,9 +107,13 @@ def shown(path):
     return path if rel.startswith("..") else rel
 
 
+def where(error):
+    """`file:line` of an error, or the error itself when it has no place."""
+    return "%s:%s" % (shown(error.file), error.line) if error.file else error.display()
+
+
 def error_text(parent, error):
-    where = "%s:%s: " % (shown(error.file), error.line) if error.file else ""
-    lines = [where + error.display()]
+    lines = [("%s: " % where(error) if error.file else "") + error.display()]
     source = parent.source_line(error.file, error.line)
     if source is not None:
         lines.append("    " + source.strip())
@@ -152,7 +158,7 @@ class ForthLoad(ForthItem):
         if run.output:
             self.add_report_section("call", "rcl output", run.output)
         problems = []
-        if run.error is not None and parent.spec_of_error(run.error) is None:
+        if run.error is not None and parent.spec_of_error(run) is None:
             problems.append(error_text(parent, run.error))
         problems.extend(result_text(r) for r in run.others if not r.ok)
         if problems:
@@ -171,13 +177,12 @@ class ForthTest(ForthItem):
 
     def runtest(self):
         run, parent, spec = self.parent.outcome(), self.parent, self.spec
-        if parent.spec_of_error(run.error) is spec:
+        if parent.spec_of_error(run) is spec:
             raise ForthTestFailure(error_text(parent, run.error))
         results = run.results.get((spec.line, spec.column))
         if not results:
             if run.error is not None:
-                skip("not reached: the load stopped at %s:%s"
-                     % (shown(run.error.file or "?"), run.error.line))
+                skip("not reached: the load stopped at %s" % where(run.error))
             skip("T{ on line %d never ran" % spec.line)
         failed = [r for r in results if not r.ok]
         if failed:
