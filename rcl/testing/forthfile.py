@@ -76,7 +76,7 @@ class ForthFile(pytest.File):
     def hear(self, m, run, name, result):
         if not result.ok and self.mode == "robot" and m.sim.board.moves.moves:
             from rcl.testing.assertions import report
-            result.robot = report(m)         # only once the robot has moved
+            result.notes = report(m)         # only once the robot has moved
         if result.file == name and (result.line, result.column) in self.keys:
             run.results.setdefault((result.line, result.column), []).append(result)
         else:
@@ -128,9 +128,8 @@ def result_text(result):
     lines.extend("    " + text.strip() for text in result.source)
     lines.append("  expected: " + stack_text(result.expected))
     lines.append("  actual:   " + actual)
-    robot = getattr(result, "robot", None)
-    if robot:
-        lines.append(robot)
+    if result.notes:
+        lines.append(result.notes)
     return "\n".join(lines)
 
 

@@ -33,6 +33,7 @@ class Result:
     ok: bool = False
     message: str = ""         # "" or the standard tester's complaint
     taken: int = 0            # cells the code took from below T{ (actual None)
+    notes: str = ""           # what a listener adds (the pytest plugin: the robot)
 
     @property
     def text(self):
