@@ -136,3 +136,10 @@ def test_a_configured_file_that_is_missing_is_named(pytester):
     result.assert_outcomes(failed=1, skipped=1)
     result.stdout.fnmatch_lines(["*nowhere.fs  File not found",
                                  "SKIPPED*not reached: the load stopped at *nowhere.fs  File not found"])
+
+
+def test_bye_in_a_test_file_ends_its_load_with_a_clear_failure(pytester):
+    pytester.makefile(".fs", test_bye="T{ 1 -> 1 }T\nBYE\nT{ 2 -> 2 }T\n")
+    result = run(pytester)
+    result.assert_outcomes(passed=1, failed=1, skipped=1)
+    result.stdout.fnmatch_lines(["BYE: the file ended before its last line"])

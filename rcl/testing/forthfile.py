@@ -60,7 +60,7 @@ class ForthFile(pytest.File):
         return self.run_
 
     def load(self):
-        from rcl.errors import ForthError
+        from rcl.errors import Bye, ForthError
         from rcl.testing.plugin import machine
         from rcl.words.tester import state_of
         run, name = Run(), str(self.path)
@@ -71,6 +71,8 @@ class ForthFile(pytest.File):
             run.output = m.take_output()
         except ForthError as e:
             run.error, run.output = e, e.output
+        except Bye:                       # the file asked rcl to leave
+            run.error = ForthError(-1, "BYE: the file ended before its last line")
         return run
 
     def hear(self, m, run, name, result):
