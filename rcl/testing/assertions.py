@@ -8,16 +8,17 @@ AssertionError saying what was expected and what the robot did: its pose,
 wheel counts, arm, relays, following error and, for robots made by
 rcl.testing, the last moves. Pose and wheel counts are read once the
 wheels have rolled to rest (a move returns as its relays open; the wheels
-run on for a few tens of milliseconds, which turns the robot by tenths of
-a degree): pass settle=False to look at once.
+run on a count or so, mostly in the first 0.1 s, which can turn the robot
+by tenths of a degree): pass settle=False to look at once.
 """
 import re
 
 from rcl.forth.memory import MASK, signed
 from rcl.sim import constants as C
+from rcl.sim.board import PER_DAY_ADDR
 from rcl.testing.moves import pose_text, wrap
 
-SETTLE_LIMIT_S = 2.0          # rolling on lasts ~0.3 s (brake tau 50 ms)
+SETTLE_LIMIT_S = 2.0          # a braked wheel's rate reaches 0 in ~0.9 s
 SETTLE_STEP_S = 0.01          # one RCL tick
 DRIVING = (C.M1_GO | C.M2_GO, C.ARM_ON | C.GRIP_ON)
 
@@ -52,7 +53,7 @@ def come_to_rest(m, limit=SETTLE_LIMIT_S):
 def time_of_day(m):
     """Seconds since midnight by the board's BIOS tick count."""
     board = m.sim.board
-    per_day = board.low_fetch32(0x4F0) or 1
+    per_day = board.low_fetch32(PER_DAY_ADDR) or 1
     return m.sim.bios_ticks * 86400.0 / per_day
 
 
