@@ -70,6 +70,8 @@ class ForthFile(pytest.File):
             m.include(name)
             run.output = m.take_output()
         except ForthError as e:
+            if e.code == -28:             # Ctrl-C: the machine is safe, stop pytest
+                raise KeyboardInterrupt from None
             run.error, run.output = e, e.output
         except Bye:                       # the file asked rcl to leave
             run.error = ForthError(-1, "BYE: the file ended before its last line")
