@@ -61,7 +61,7 @@ def test_wheel_counts_failure_names_both_counts():
     m = robot()
     m.evaluate("3.5 FEET FORWARD")
     text = failure(assert_wheel_counts, m, left=1000, right=1000)
-    assert "wheel counts left 1000, right 1000 (+-2), but they are 119" in text
+    assert "wheel counts left 1000, right 1000 (+-2), but they are left 119" in text
 
 
 def test_the_arm_and_jaw_are_where_the_reference_puts_them():
@@ -69,7 +69,7 @@ def test_the_arm_and_jaw_are_where_the_reference_puts_them():
     m.evaluate("ARM 3.1 INCHES DOWN 2 INCHES UP 1 INCHES OPEN")    # 8.0 -> 4.9 -> 6.9
     assert_arm(m, height=6.9, jaw=1.0)
     text = failure(assert_arm, m, height=8.0)
-    assert "arm 8.0 in" in text and "but they are 6.90, 1.00" in text
+    assert "expected arm 8.0 (+-0.05 in), but they are arm 6.90 in, jaw 1.00 in" in text
     assert [line.split()[0] for line in text.split("last moves:\n")[1].splitlines()] == \
         ["DOWN", "UP", "OPEN"]
 

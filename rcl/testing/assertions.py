@@ -84,6 +84,16 @@ def report(m):
     return "\n".join(lines)
 
 
+def wanted(**values):
+    """`left 1000, right 1000` of the values that were asked for."""
+    return ", ".join("%s %s" % (k, v) for k, v in values.items() if v is not None)
+
+
+def off_by(value, want, tolerance):
+    """The value is outside want +- tolerance (want None: anything goes)."""
+    return want is not None and abs(value - want) > tolerance
+
+
 def pose_xy_heading(pose):
     x, y, heading = pose
     return x, y, wrap(heading)
@@ -105,7 +115,7 @@ def assert_pose(m, x=None, y=None, heading=None, *, inches=0.1, degrees=0.5, set
         raise TypeError("assert_pose needs x, y or heading")
     settled = come_to_rest(m) if settle else 0.0
     px, py, ph = m.sim.pose
-    bad = (x is not None and abs(px - x) > inches) or (y is not None and abs(py - y) > inches) \
+    bad = off_by(px, x, inches) or off_by(py, y, inches) \
         or (heading is not None and abs(wrap(ph - heading)) > degrees)
     if bad:
         fail(m, "the robot at %s, but it is at %s"
@@ -125,19 +135,18 @@ def assert_wheel_counts(m, left=None, right=None, *, counts=2, settle=True):
     __tracebackhide__ = True      # pytest shows the caller's line
     settled = come_to_rest(m) if settle else 0.0
     wl, wr = m.sim.wheel_counts
-    if (left is not None and abs(wl - left) > counts) or (right is not None and abs(wr - right) > counts):
-        fail(m, "wheel counts left %s, right %s (+-%d), but they are %d, %d"
-             % (left, right, counts, wl, wr), settled)
+    if off_by(wl, left, counts) or off_by(wr, right, counts):
+        fail(m, "wheel counts %s (+-%d), but they are left %d, right %d"
+             % (wanted(left=left, right=right), counts, wl, wr), settled)
 
 
 def assert_arm(m, height=None, jaw=None, *, inches=0.05):
     """The lift stands at `height` and the jaws are `jaw` apart (inches)."""
     __tracebackhide__ = True      # pytest shows the caller's line
     arm, opening = m.sim.arm, m.sim.jaw
-    if (height is not None and abs(arm - height) > inches) or \
-            (jaw is not None and abs(opening - jaw) > inches):
-        fail(m, "arm %s in, jaw %s in (+-%g in), but they are %.2f, %.2f"
-             % (height, jaw, inches, arm, opening))
+    if off_by(arm, height, inches) or off_by(opening, jaw, inches):
+        fail(m, "%s (+-%g in), but they are arm %.2f in, jaw %.2f in"
+             % (wanted(arm=height, jaw=jaw), inches, arm, opening))
 
 
 def assert_no_following_error(m):
@@ -165,7 +174,8 @@ def assert_time_of_day(m, when, *, seconds=0.5):
     now = time_of_day(m)
     off = (now - want + 43200.0) % 86400.0 - 43200.0
     if abs(off) > seconds:
-        fail(m, "time of day %s (+-%g s), but it is %s" % (clock_text(want), seconds, clock_text(now)))
+        fail(m, "time of day %s (+-%g s), but it is %s"
+             % (clock_text(want), seconds, clock_text(now)))
 
 
 TIME = re.compile(r"^\s*(\d{1,2}):(\d{2})(?::(\d{2}(?:\.\d*)?))?\s*([AaPp][Mm])?\s*$")
