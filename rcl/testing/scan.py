@@ -134,6 +134,6 @@ def scan(lines):
     specs = Scanner(lines).scan()
     seen = {}
     for spec in specs:
-        seen[spec.line] = seen.get(spec.line, 0) + 1
-        spec.name = "line %d" % spec.line + (".%d" % seen[spec.line] if seen[spec.line] > 1 else "")
+        n = seen[spec.line] = seen.get(spec.line, 0) + 1
+        spec.name = "line %d" % spec.line + (".%d" % n if n > 1 else "")
     return mode_of(lines), specs
