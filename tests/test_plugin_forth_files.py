@@ -143,3 +143,11 @@ def test_bye_in_a_test_file_ends_its_load_with_a_clear_failure(pytester):
     result = run(pytester)
     result.assert_outcomes(passed=1, failed=1, skipped=1)
     result.stdout.fnmatch_lines(["BYE: the file ended before its last line"])
+
+
+def test_a_file_that_brings_its_own_tester_is_told_to_leave_it_out(pytester):
+    pytester.makefile(".fs", test_own="VARIABLE DEPTH0\n: T{  DEPTH DEPTH0 ! ;\n"
+                      ": ->  ;\n: }T  ;\nT{ 1 -> 1 }T\n")
+    result = run(pytester)
+    result.assert_outcomes(failed=1, skipped=1)
+    result.stdout.fnmatch_lines(["test_own.fs: the file redefines T{ -> }T (a tester of its own?)*"])

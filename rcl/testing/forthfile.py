@@ -20,6 +20,9 @@ import pytest
 from rcl.testing.scan import ScanError, scan
 
 
+TESTER_WORDS = ("T{", "->", "}T")
+
+
 class ForthTestFailure(Exception):
     """A Forth test failed; the message is the whole report."""
 
@@ -31,6 +34,7 @@ class Run:
     others: list = field(default_factory=list)      # results with no item
     error: object = None                            # the ForthError that stopped it
     output: str = ""
+    redefined: list = field(default_factory=list)   # tester words the file replaced
 
 
 def read_lines(path):
@@ -69,6 +73,8 @@ class ForthFile(pytest.File):
             state_of(m).listener = lambda result: self.hear(m, run, name, result)
             m.include(name)
             run.output = m.take_output()
+            run.redefined = [w for w in TESTER_WORDS
+                             if (m.dictionary.find(w) or (None,))[0] != m.xt_of[w]]
         except ForthError as e:
             if e.code == -28:             # Ctrl-C: the machine is safe, stop pytest
                 raise KeyboardInterrupt from None
@@ -164,6 +170,10 @@ class ForthLoad(ForthItem):
         if run.error is not None and parent.spec_of_error(run) is None:
             problems.append(error_text(parent, run.error))
         problems.extend(result_text(r) for r in run.others if not r.ok)
+        if run.redefined:
+            problems.append("%s: the file redefines %s (a tester of its own?); rcl has "
+                            "them built in and sees only its own: leave that tester out"
+                            % (shown(str(self.path)), " ".join(run.redefined)))
         if problems:
             raise ForthTestFailure("\n".join(problems))
 
