@@ -34,6 +34,12 @@ def test_box_comes_back_within_a_third_of_an_inch_turned_0_8_degrees_clockwise(b
     assert_pose(boxed, x=0, y=0, inches=0.35)
 
 
+def test_listing_1s_left_square_ends_mirrored_0_18_inches_away_0_68_degrees_left():
+    m = robot([EXAMPLES / "listing1.fs"])
+    assert_pose(m, x=0.08, y=-0.16, heading=0.68, inches=0.1, degrees=0.3)
+    assert_pose(m, x=0, y=0, inches=0.2)
+
+
 def test_box_drives_four_sides_of_1193_counts_and_four_turns_of_313(boxed):
     assert_wheel_counts(boxed, left=4 * 1193 + 4 * 313, right=4 * 1193 - 4 * 313, counts=16)
 
