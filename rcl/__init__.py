@@ -15,18 +15,19 @@ __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 SCREENS = os.path.join(os.path.dirname(__file__), "screens")
 
 
-def open(realtime=False, write=None, screens=True, image=None):  # noqa: A001  (DESIGN.md's name)
+def open(realtime=False, write=None, screens=True, image=None, board=None):  # noqa: A001
     """A running system: a machine wired to a simulated board with RCL
     loaded and INSTALL run (screens=False: the board alone), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
     realtime=True the virtual clock keeps pace with the wall clock.
     image="file": the system SAVE-SYSTEM wrote instead of the screens, its
     interrupt handler installed again (rcl.forth.image.ImageError if the
-    file is refused)."""
+    file is refused). `board` is a fresh SimBoard (or subclass) to use
+    instead of a new one. (`open` is DESIGN.md's name for it.)"""
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
-    board = SimBoard()
+    board = board if board is not None else SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
     if image is not None:

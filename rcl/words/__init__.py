@@ -4,3 +4,4 @@ from rcl.forth import inner  # noqa: F401  (runtimes and control words first)
 from rcl.words import core, memory_access, double, compiling, io, parsing, tools, vocab  # noqa: F401
 from rcl.words import exceptions, blocks, files, system, ports, rclcode  # noqa: F401
 from rcl.words import tracing, saving  # noqa: F401
+from rcl.words import tester  # noqa: F401  (T{ -> }T; last, so no number moves)
