@@ -240,7 +240,17 @@ def test_real_time_pace_sleeps_until_the_wall_clock_catches_up():
     wall[0] += 0.5                                              # the host fell behind
     pacer.wait(CLOCK_HZ // 50)
     assert slept == [pytest.approx(0.01)]
-    assert pacer.lateness == [0.0, pytest.approx(0.48)]
+    assert list(pacer.lateness) == [0.0, pytest.approx(0.48)]
+    assert (pacer.ticks, pacer.late, pacer.worst) == (2, 1, pytest.approx(0.48))
+
+
+def test_real_time_pace_keeps_its_memory_bounded_however_long_it_runs():
+    wall = [0.0]
+    pacer = Pacer(0, wall=lambda: wall[0], sleep=lambda s: wall.__setitem__(0, wall[0] + s))
+    for tick in range(1, 20_001):                               # 200 s of ticks
+        pacer.wait(tick * CLOCK_HZ // 100)
+    assert len(pacer.lateness) == 6000                          # the last minute
+    assert (pacer.ticks, pacer.late) == (20_000, 0)
 
 
 def test_open_gives_a_machine_on_the_simulated_board_at_power_on():
