@@ -405,4 +405,5 @@ class SimBoard(Board):
         now = self.pcb_time()
         control = self.pcb.read16(0x56, now)
         self.pcb.write16(0x56, (control & ~INT_BIT) | INH_BIT, now)
+        self.pcb.drop_requests(0, now)
         self.refresh_due()

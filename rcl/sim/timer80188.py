@@ -342,6 +342,13 @@ class Timer80188:
         self.in_service = True
         return TIMER_TYPES[timer.number]
 
+    def drop_requests(self, number, now):
+        """Forget timer `number`'s latched requests (a safe state that must
+        not run the failed handler once more for a tick already past)."""
+        self.catch_up(now)
+        timer = self.timers[number]
+        timer.requests, timer.pending_at = 0, None
+
     def take_timer0_requests(self, now):
         """Catch up to now and take all but the latest timer-0 request as
         handled (for a board that has nothing to do on them); -> how many.
