@@ -6,9 +6,10 @@
 \   told the wheels to be); the speed steps along the trapezoid laid out on
 \   q and its 8253 count goes out first, so the wheels get it with the
 \   least delay; ADVANCE adds to q exactly what that count makes the wheels
-\   travel in a tick, 1250/N counts, remainders kept (the article's EXPACC,
-\   the sum of the speeds, over 1200), so a healthy wheel never drifts
-\   from q however long the move, and q never wraps within 32-bit counts.
+\   travel in a tick, 1250.0625/N counts, remainders kept (the article's
+\   EXPACC, the sum of the speeds, over 1200), so a healthy wheel never
+\   drifts from q however long the move, and q never wraps within 32-bit
+\   counts.
 \   Then each moving wheel's position p: |q - p| > FERR-LIMIT stops
 \   everything (following error); p at the end (less RUN-ON) stops that
 \   wheel. When both are done the move is over. Last, the arm's ticks.
@@ -27,10 +28,20 @@ VARIABLE ARM-LIMIT   \ the STATUS bit that ends it early
 
 : COMMANDED  ( -- dq )   Q-AT 2@ ;
 : EXPECTED-POS  ( motor# -- d )   DROP COMMANDED ;
-\ Count N (50..65535, from >REF) makes 1,500,000 / N crpm, a quotient and a
-\ remainder in 1/N crpm: the remainders add up in N-PART and carry.
-: ADVANCE  ( N -- )   \ q moves on by one tick at count N, exactly
-   DUP N-NOW !  >R  1500000. R@ UM/MOD SWAP            ( quot rem ) ( R: N )
+\ Count N (50..65535, from >REF) makes 125,000 / N encoder counts a second.
+\ A tick is 6667 x 1.5 us = 10.0005 ms (not 10), so in a tick the wheel
+\ goes 1,500,075 / N crpm-ticks (1/1200 count each; 1,500,000 would let q
+\ fall 5 counts in 100,000 behind a healthy wheel, a false following error
+\ after two miles). A quotient and a remainder in 1/N crpm-tick: the
+\ remainders add up in N-PART and carry. When the
+\ count changes, N-PART is rescaled to the new 1/N (losing less than 1/N of
+\ a crpm-tick): exact while the speed holds, and within a count over the
+\ longest ramp.
+: ADVANCE  ( N -- )   \ q moves on by one tick at count N
+   DUP N-NOW @ <> IF                                   \ N-PART x N / N-NOW
+      DUP N-PART @ UM*  N-NOW @ UM/MOD NIP  N-PART !  DUP N-NOW !
+   THEN
+   >R  1500075. R@ UM/MOD SWAP                         ( quot rem ) ( R: N )
    N-PART @  R> 2 PICK -                               ( quot rem part N-rem )
    2DUP U< IF  DROP +  ELSE  - NIP  SWAP 1+ SWAP  THEN ( quot' part' )
    N-PART !  Q-PART @ +  1200 /MOD  SWAP Q-PART !  Q-AT 2@ ROT M+ Q-AT 2! ;

@@ -29,7 +29,7 @@ CREATE SIGNS   1 , 1 ,   -1 , -1 ,   -1 , 1 ,   1 , -1 ,   \ left, right
 : START  ( dir -- )   \ both wheels set off on a new move
    4 * SIGNS +  DUP @ WHEEL1 >DIR + !  2+ @ WHEEL2 >DIR + !
    WHEEL1 READ-POS WHEEL1 >START + 2!  WHEEL2 READ-POS WHEEL2 >START + 2!
-   0. Q-AT 2!  Q-PART OFF  N-PART OFF  0 SPEED-NOW !  SPEED-HELD OFF  BOTH ON
+   0. Q-AT 2!  Q-PART OFF  N-PART OFF  1 N-NOW !  0 SPEED-NOW !  SPEED-HELD OFF  BOTH ON
    WHEEL1 >MOVING + ON  WHEEL2 >MOVING + ON ;
 
 DEFER MOVED  ( -- )   \ after each base move (the status layer's odometry)
