@@ -192,9 +192,10 @@ class Gen:
         self.vs = []
 
     # --------------------------------------------------------- simple ops
-    def op_inline(self, p, ind):
-        inputs, outputs = p.inline[0].split(), p.inline[1]
-        stmt = p.inline[2] if len(p.inline) > 2 else None
+    def op_inline(self, p, ind, template=None):
+        template = template or p.inline
+        inputs, outputs = template[0].split(), template[1]
+        stmt = template[2] if len(template) > 2 else None
         if p.touches_memory:
             self.flush_dpl(ind)
         atoms = self.take(len(inputs), ind)
@@ -225,6 +226,11 @@ class Gen:
                 self.vs.extend(str(c) for c in cells)
                 if dpl is not None:
                     self.dpl = dpl
+                return
+            # A template made from the inline cells (locals: rs[-k] for k).
+            template = p.extra.get("inline_args", lambda args: None)(ins.args)
+            if template is not None:
+                self.op_inline(p, ind, template)
                 return
             self.flush(ind)
             self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
