@@ -83,8 +83,9 @@ def test_locals_leave_the_return_stack_as_they_found_it(sys_run):
 
 
 def test_a_caught_throw_from_inside_a_word_with_locals_unwinds_them(sys_run):
-    src = ": T {: a :} a THROW ; : U 5 ['] T CATCH ; U 0 ' T CATCH"
-    assert sys_run(src) == [5, 0]
+    # CATCH keeps the depth: the thrown-from argument's cell stays, then 5
+    src = ": T {: a :} a THROW ; : U 5 ['] T CATCH 9 >R R> ; U 0 ' T CATCH"
+    assert sys_run(src)[1:] == [5, 9, 0]
 
 
 # --- (LOCAL) and LOCALS| --------------------------------------------------------------
