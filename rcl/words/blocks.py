@@ -36,7 +36,8 @@ class BlockFile:
     def __init__(self, machine):
         self.m = machine
         self.path = None               # None: the scratch file
-        self.data = bytearray()
+        self.data = bytearray()        # the scratch blocks, or a text file's screens
+        self.blocks = 0                # blocks in the file
         self.readonly = False
         self.buffers = [[None, False] for _ in range(NBUF)]   # [block, updated]
         self.current = 0
@@ -51,6 +52,7 @@ class BlockFile:
         self.flush()
         self.path, self.readonly = path, readonly
         self.data = bytearray(raw[:len(raw) - len(raw) % BLOCK])   # a CP/M tail is not a block
+        self.blocks = len(self.data) // BLOCK
         self.buffers = [[None, False] for _ in range(NBUF)]
 
     def create(self, path, n):
@@ -62,10 +64,8 @@ class BlockFile:
     def more(self, n):
         """F83's MORE: n blank blocks at the end of the open file."""
         self.check_writable()
-        blank = b" " * (BLOCK * n)
-        if self.path is not None:
-            self.write_file(len(self.data), blank)
-        self.data += blank
+        self.write_file(self.blocks * BLOCK, b" " * (BLOCK * n))
+        self.blocks += n
 
     @property
     def name(self):
@@ -73,12 +73,14 @@ class BlockFile:
 
     @property
     def count(self):
-        return SCRATCH_BLOCKS if self.path is None else len(self.data) // BLOCK
+        return SCRATCH_BLOCKS if self.path is None else self.blocks
 
     def addr(self, i):
         return BLOCK_BUFFERS + i * BLOCK
 
     def check(self, n):
+        if self.path is not None and not self.readonly and n >= self.blocks:
+            self.blocks = self.file_blocks()      # another writer may have made it longer
         if not 0 <= n < self.count:
             raise ForthError(-35, "Block %d out of range (%s has %d)" % (n, self.name, self.count))
 
@@ -107,9 +109,26 @@ class BlockFile:
                 self.current = i
                 return self.addr(i)
         a = self.buffer(n)
-        data = bytes(self.data[n * BLOCK:(n + 1) * BLOCK])
-        self.m.memory.write(a, data.ljust(BLOCK))        # scratch: blank until written
+        self.m.memory.write(a, self.read(n))
         return a
+
+    def read(self, n):
+        """Block n as it is now: from the file itself (another program, or
+        the File-Access words, may have written it), else from memory."""
+        if self.path is None or self.readonly:
+            return bytes(self.data[n * BLOCK:(n + 1) * BLOCK]).ljust(BLOCK)   # scratch: blank
+        try:
+            with open(self.path, "rb") as f:
+                f.seek(n * BLOCK)
+                return f.read(BLOCK).ljust(BLOCK)
+        except OSError as exc:
+            raise ForthError(FILE_ERROR, "Cannot read %s: %s" % (self.path, exc.strerror)) from None
+
+    def file_blocks(self):
+        try:
+            return os.path.getsize(self.path) // BLOCK
+        except OSError:
+            return self.blocks
 
     def update(self):
         self.check_writable()
@@ -123,9 +142,10 @@ class BlockFile:
         data = self.m.memory.read(self.addr(i), BLOCK)
         if self.path is not None:
             self.write_file(blk * BLOCK, data)
-        if len(self.data) < (blk + 1) * BLOCK:
-            self.data += b" " * ((blk + 1) * BLOCK - len(self.data))
-        self.data[blk * BLOCK:(blk + 1) * BLOCK] = data
+        else:
+            if len(self.data) < (blk + 1) * BLOCK:
+                self.data += b" " * ((blk + 1) * BLOCK - len(self.data))
+            self.data[blk * BLOCK:(blk + 1) * BLOCK] = data
         self.buffers[i][1] = False
 
     def write_file(self, offset, data):
