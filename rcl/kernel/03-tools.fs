@@ -9,3 +9,8 @@ VOCABULARY EDITOR       \ the line editor's words go here
    CREATE OVER , +  DOES> @ + ;
 : FIELD:  ( n1 -- n2 )   2 +FIELD ;        \ a cell (cells need no alignment)
 : CFIELD:  ( n1 -- n2 )   1 +FIELD ;       \ a character
+\ Forth 2012 has every standard word in FORTH-WORDLIST: the search-order
+\ words F83 keeps in ROOT are found from FORTH too (ROOT keeps its own).
+SYNONYM FORTH-WORDLIST FORTH-WORDLIST   SYNONYM GET-ORDER GET-ORDER
+SYNONYM SET-ORDER SET-ORDER   SYNONYM ALSO ALSO   SYNONYM ONLY ONLY
+SYNONYM PREVIOUS PREVIOUS   SYNONYM DEFINITIONS DEFINITIONS   SYNONYM ORDER ORDER
