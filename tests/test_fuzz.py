@@ -19,6 +19,10 @@ from rcl.forth.memory import MASK
 STORES = {"!", "C!", "2!", "+!", "ON", "OFF", "FILL", "ERASE", "BLANK", "CMOVE",
           "CMOVE>", "MOVE", "DEFER!", "EXECUTE", "CATCH", "COMPILE,", "UPPER", "ACCEPT",
           "EXPECT", "HIDE", "REVEAL", "BYE"}
+# Words that make, change or remove files on the host: never with random names
+# (USING too: a block file it opened would take random UPDATE FLUSH).
+HOST = {"CREATE-FILE", "DELETE-FILE", "RENAME-FILE", "RESIZE-FILE", "WRITE-FILE",
+        "WRITE-LINE", "CREATE-BLOCKS", "MORE", "USING"}
 CONTROL = [":", ";", "IF", "ELSE", "THEN", "BEGIN", "UNTIL", "WHILE", "REPEAT",
            "AGAIN", "DO", "?DO", "LOOP", "+LOOP", "LEAVE", "CASE", "OF", "ENDOF",
            "ENDCASE", "DOES>", "[", "]", "(", ")", '."', '"', 'S"', "\\", "RECURSE"]
@@ -35,10 +39,10 @@ _machine.step_limit = 20_000
 NAMES = sorted(n for n in (_machine.dictionary.name_of((lfa + 2) & MASK)
                            for wid in (_machine.forth_wid, _machine.root_wid)
                            for lfa in _machine.dictionary.lfas(wid))
-               if n and n not in STORES and n != "CANARY")
+               if n and n not in STORES | HOST and n != "CANARY")
 
 junk = st.text(alphabet=string.ascii_letters + string.digits + string.punctuation,
-               min_size=1, max_size=8).filter(lambda w: w.upper() not in STORES)
+               min_size=1, max_size=8).filter(lambda w: w.upper() not in STORES | HOST)
 numbers = st.one_of(st.integers(-2**33, 2**33).map(str), st.sampled_from(ADDRESSES),
                     st.builds(lambda a, b: "%d.%d" % (a, b), st.integers(-999, 999),
                               st.integers(0, 99999)))

@@ -27,6 +27,7 @@ from rcl.words.compiling import parse_word
 BLOCK = 1024
 NBUF = 2
 SCRATCH_BLOCKS = 1024          # the scratch file: 1 MiB of host memory at most
+MAX_NEW = 4096                 # CREATE-BLOCKS and MORE add at most this many at once
 FILE_ERROR = -37
 
 
@@ -203,6 +204,13 @@ def file_name(m):
     return name
 
 
+def screens(n):
+    """A count of new screens: at least 1, at most MAX_NEW at once (4 MiB)."""
+    if not 1 <= n <= MAX_NEW:
+        raise ForthError(-24, "%d screens? 1 to %d at a time" % (signed(n), MAX_NEW))
+    return n
+
+
 @prim("USING", "( -- ) open the block file named next (a text file: read only)")
 def using(m):
     name = file_name(m)
@@ -221,7 +229,7 @@ def using(m):
       "and use it")
 def create_blocks(m):
     need(m, 1)
-    n = m.s.pop()
+    n = screens(m.s.pop())
     name = file_name(m)
     if os.path.exists(name):
         raise ForthError(-37, "%s exists: USING %s opens it" % (name, name))
@@ -236,7 +244,7 @@ def more(m):
     need(m, 1)
     if bf(m).path is None:
         raise ForthError(-35, "The scratch blocks have %d screens, no more" % SCRATCH_BLOCKS)
-    bf(m).more(m.s.pop())
+    bf(m).more(screens(m.s.pop()))
 
 
 @prim("BLOCK", "( n -- addr ) the buffer holding block n")
