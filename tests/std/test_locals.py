@@ -147,3 +147,13 @@ def test_a_locals_word_costs_the_virtual_time_of_its_primitives_only(forth):
     forth.evaluate("3 4 L")
     assert forth.stack == [21]
     assert forth.clock - before == 9 * DEFAULT_COST
+
+
+def test_environment_says_how_many_locals_a_definition_may_have(sys_run):
+    assert sys_run('S" #LOCALS" ENVIRONMENT?') == [32, -1]
+
+
+def test_sixteen_locals_or_more_are_supplied(sys_run):
+    names = " ".join("L%d" % i for i in range(32))
+    src = ": T {: %s :} L31 L0 ; " % names + " ".join(str(i) for i in range(32)) + " T"
+    assert sys_run(src) == [31, 0]
