@@ -202,11 +202,16 @@ def file_status(m):
 
 
 # --------------------------------------------------------- position, size
+def push_double(m, word, action):
+    """( fileid -- ud ior ) for a word that asks the open file a number."""
+    value, ior = with_file(m, m.s.pop(), word, action)
+    push2(m.s, value or 0)
+    push_ior(m, ior)
+
+
 @prim("FILE-POSITION", "( fileid -- ud ior ) where the next read or write happens")
 def file_position(m):
-    pos, ior = with_file(m, m.s.pop(), "FILE-POSITION", lambda f: f.tell())
-    push2(m.s, pos or 0)
-    push_ior(m, ior)
+    push_double(m, "FILE-POSITION", lambda f: f.tell())
 
 
 @prim("REPOSITION-FILE", "( ud fileid -- ior )")
@@ -223,9 +228,7 @@ def size_of(f):
 
 @prim("FILE-SIZE", "( fileid -- ud ior )")
 def file_size(m):
-    size, ior = with_file(m, m.s.pop(), "FILE-SIZE", size_of)
-    push2(m.s, size or 0)
-    push_ior(m, ior)
+    push_double(m, "FILE-SIZE", size_of)
 
 
 @prim("RESIZE-FILE", "( ud fileid -- ior ) cut or extend (with zeros) to ud bytes")

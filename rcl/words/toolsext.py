@@ -68,26 +68,24 @@ def bracket_undefined(m):
 
 
 # ------------------------------------------------------------- return stack
+def move_group(src, dst, underflow):
+    """Move the n cells under n (on top of src) to dst, n on top of them."""
+    n = src.pop()
+    if n > len(src):
+        raise ForthError(underflow)
+    dst.extend(src[len(src) - n:])
+    del src[len(src) - n:]
+    dst.append(n)
+
+
 @prim("N>R", "( x1 ... xn n -- ) R: ( -- x1 ... xn n ) move n cells and their count")
 def n_to_r(m):
-    n = m.s.pop()
-    if n > len(m.s):
-        raise ForthError(-4)
-    items = m.s[len(m.s) - n:]
-    del m.s[len(m.s) - n:]
-    m.rs.extend(items)
-    m.rs.append(n)
+    move_group(m.s, m.rs, -4)
 
 
 @prim("NR>", "( -- x1 ... xn n ) R: ( x1 ... xn n -- ) take back what N>R moved")
 def n_r_from(m):
-    n = m.rs.pop()
-    if n > len(m.rs):
-        raise ForthError(-6)
-    items = m.rs[len(m.rs) - n:]
-    del m.rs[len(m.rs) - n:]
-    m.s.extend(items)
-    m.s.append(n)
+    move_group(m.rs, m.s, -6)
 
 
 # ------------------------------------------------------------------ SYNONYM
