@@ -149,6 +149,8 @@ class Gen:
         self.ntemp = 0
         self.vs = []
         self.dpl = None
+        self.rs_known = None     # atoms known to be the top return-stack cells (locals)
+        self.rs_pending = None   # a line pushing them, not yet emitted (see forget_rs)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -219,6 +221,13 @@ class Gen:
 
     def op_simple(self, ins, ind):
         p, op = ins.prim, ins.op
+        # A word set may compile its own primitive (the Locals word set keeps
+        # a frame's cells in Python locals: rcl/words/localvars.py); -> True if done.
+        hook = p.extra.get("compile")
+        if hook is not None and hook(self, ins.args, ind):
+            return
+        if not keeps_rs(p, op):
+            self.forget_rs(ind)
         if op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants
@@ -282,7 +291,15 @@ class Gen:
         self.emit("if r != %d: return r" % ret, ind)
         self.goto_next(k, ret, ind)
 
+    def forget_rs(self, ind):
+        """Something may look at the return stack: lay down any cells kept
+        back (a locals frame whose reads all came from Python names so far)."""
+        if self.rs_pending:
+            self.emit(self.rs_pending, ind)
+        self.rs_known = self.rs_pending = None
+
     def terminator(self, ins, k, ind):
+        self.forget_rs(ind)
         op = ins.op
         if op is None:                    # block ends where another begins
             self.flush(ind)
@@ -391,11 +408,11 @@ class Gen:
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         self.emit("if m.clock + %d >= m.deadline:" % pre, ind)
         self.emit("slow(m, %s, %d)" % (seq, tcost), ind + 1)
-        self.vs, self.dpl = [], None
+        self.vs, self.dpl, self.rs_known = [], None, None
         self.terminator(term, k, ind + 1)
         self.emit("else:", ind)
         self.emit("m.clock += %d" % (pre + tcost), ind + 1)
-        self.vs, self.dpl = [], None
+        self.vs, self.dpl, self.rs_known = [], None, None
         for i in ops:
             self.op_simple(i, ind + 1)
         self.terminator(term, k, ind + 1)
@@ -436,6 +453,12 @@ class Gen:
             marks.update(range(ins.addr, ins.next if ins.next > ins.addr else ins.addr + 2))
             marks.update((ins.xt, (ins.xt + 1) & MASK))
         return "\n".join(self.lines), marks
+
+
+def keeps_rs(p, op):
+    """Does compiled op p surely leave the return stack alone?"""
+    return op in ("var", "con", "2con") or "lit" in p.extra \
+        or (p.inline is not None and "rs" not in repr(p.inline))
 
 
 def subst(text, env):

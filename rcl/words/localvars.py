@@ -75,6 +75,54 @@ BY_NAME["(LOCAL!)"].extra["inline_args"] = lambda a: ("a", (), "rs[-%d] = a" % a
 BY_NAME["(UNLOCALS)"].extra["inline_args"] = lambda a: ("", (), "del rs[-%d:]" % a[0])
 
 
+# Within one block of compiled code (compiler.py) the locals' values are
+# Python names already: a read is then no code at all, as a DUP is.
+# `gen.rs_known` lists them; the frame itself is only pushed
+# (`gen.rs_pending`) when something may look at the return stack or the
+# block ends, so a definition that fits one block never builds it.
+def compile_frame(gen, args, ind):
+    n, u = args
+    if n > len(LETTERS):
+        return False
+    gen.forget_rs(ind)
+    cells = gen.take(n, ind) + ["0"] * u
+    gen.rs_known = cells
+    gen.rs_pending = "rs.extend((%s,))" % ", ".join(cells) if cells else None
+    return True
+
+
+def compile_fetch(gen, args, ind):
+    known, k = gen.rs_known, args[0]
+    if known is None or k > len(known):
+        return False                       # the template's rs[-k] then
+    gen.vs.append(known[-k])
+    return True
+
+
+def compile_store(gen, args, ind):
+    known, k = gen.rs_known, args[0]
+    (atom,) = gen.take(1, ind)
+    if known is not None and k <= len(known):
+        known[-k] = atom
+        if gen.rs_pending:                  # the frame, when pushed, holds it
+            gen.rs_pending = "rs.extend((%s,))" % ", ".join(known)
+            return True
+    gen.emit("rs[-%d] = %s" % (k, atom), ind)
+    return True
+
+
+def compile_unframe(gen, args, ind):
+    if gen.rs_pending is None:
+        gen.emit("del rs[-%d:]" % args[0], ind)
+    gen.rs_known = gen.rs_pending = None    # a frame never pushed is not popped
+    return True
+
+
+for _name, _hook in (("(LOCALS)", compile_frame), ("(LOCAL@)", compile_fetch),
+                     ("(LOCAL!)", compile_store), ("(UNLOCALS)", compile_unframe)):
+    BY_NAME[_name].extra["compile"] = _hook
+
+
 # ----------------------------------------------------------- compile time
 class LocalScope:
     """The locals of the definition being compiled (names in frame order)."""

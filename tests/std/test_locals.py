@@ -131,11 +131,39 @@ def compiled_source(m, name):
     return compile_code(m, m.dictionary.find(name)[0] + 2).source
 
 
-def test_a_local_compiles_to_an_inline_return_stack_read_like_r_fetch(forth):
-    forth.evaluate(": L {: a b :} a b + a * ;  : S OVER + * ;")
+def test_a_local_read_after_a_loop_compiles_to_an_inline_return_stack_read(forth):
+    forth.evaluate(": L {: a b :} 3 0 DO LOOP a b + a * ;")
     src = compiled_source(forth, "L")
     assert "rs[-2]" in src and "rs[-1]" in src
     assert "P" not in src.replace("PROLOGUE", "")      # no call of a primitive's function
+
+
+PROGRAMS = [
+    ": T {: a b c :} a b * c + a c * - ; 7 3 5 T",
+    ": T {: n | acc :} n 0 DO acc I + TO acc LOOP acc ; 6 T",
+    ": T {: a b :} a IF b EXIT THEN a b * ; 0 5 T 2 5 T",
+    ": T {: a :} a 1+ TO a a >R R@ R> a + ; 4 T",
+    ": T {: k :} 2 0 DO 2 0 DO k I J 10 * + + LOOP LOOP ; 100 T",
+    ": FACT {: n :} n 2 < IF 1 ELSE n 1- RECURSE n * THEN ; 7 FACT",
+    ": T {: a b | c :} b TO c a TO b c TO a a b ; 1 2 T",
+]
+
+
+@pytest.mark.parametrize("src", PROGRAMS)
+def test_compiled_locals_do_what_the_reference_interpreter_does(src):
+    import rcl
+
+    fast, slow = rcl.Forth(), rcl.Forth()
+    slow.compiled = False
+    fast.evaluate(src)
+    slow.evaluate(src)
+    assert fast.stack == slow.stack and fast.clock == slow.clock and not fast.rs
+
+
+def test_a_definition_in_one_block_never_builds_its_frame(forth):
+    forth.evaluate(": L {: a b c :} a b * c + a c * - ;")
+    src = compiled_source(forth, "L").split("else:")[1]      # the fast path
+    assert "rs.extend" not in src and "rs[-" not in src and "del rs" not in src
 
 
 def test_a_locals_word_costs_the_virtual_time_of_its_primitives_only(forth):
