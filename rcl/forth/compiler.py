@@ -34,6 +34,11 @@ before its last primitive; otherwise `slow` runs it one primitive at a
 time, checking before each, so interrupts fire between exactly the same
 primitives as in the reference loop.
 
+Locals (rcl/words/localvars.py) use the same idea for the return stack: a
+primitive may carry extra["compile"], which compiles it itself; a locals
+frame's cells stay Python names (`rs_known`) and the frame is pushed only
+before something that may look at the return stack (`forget_rs`).
+
 Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
 the next call). A definition already running finishes in its old form.
