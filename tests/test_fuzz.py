@@ -18,7 +18,7 @@ from rcl.forth.memory import MASK
 # into the newest header (after EMPTY that is the canary's). BYE leaves by design.
 STORES = {"!", "C!", "2!", "+!", "ON", "OFF", "FILL", "ERASE", "BLANK", "CMOVE",
           "CMOVE>", "MOVE", "DEFER!", "EXECUTE", "CATCH", "COMPILE,", "UPPER", "ACCEPT",
-          "EXPECT", "HIDE", "REVEAL", "BYE"}
+          "EXPECT", "HIDE", "REVEAL", "BYE", "SUBSTITUTE", "UNESCAPE", "TRAVERSE-WORDLIST"}
 # Words that make, change or remove files on the host: never with random names
 # (USING too: a block file it opened would take random UPDATE FLUSH).
 HOST = {"CREATE-FILE", "DELETE-FILE", "RENAME-FILE", "RESIZE-FILE", "WRITE-FILE",
