@@ -19,13 +19,14 @@ from rcl.forth.memory import MASK
 # into the newest header (after EMPTY that is the canary's). BYE leaves by design.
 STORES = {"!", "C!", "2!", "+!", "ON", "OFF", "FILL", "ERASE", "BLANK", "CMOVE",
           "CMOVE>", "MOVE", "DEFER!", "EXECUTE", "CATCH", "COMPILE,", "UPPER", "ACCEPT",
-          "EXPECT", "HIDE", "REVEAL", "BYE"}
-# Words that write, rename or delete the host's files under names taken from
-# random memory: not for a fuzz run in somebody's working tree.
+          "EXPECT", "HIDE", "REVEAL", "BYE", "SUBSTITUTE", "UNESCAPE", "TRAVERSE-WORDLIST"}
+# Words that make, change or remove files on the host, under names taken from
+# random memory: not for a fuzz run in somebody's working tree (USING too: a
+# block file it opened would take random UPDATE FLUSH).
 HOST_FILES = {"SAVE-SYSTEM", "SAVE-TRACE", "PLOT", "CREATE-FILE", "DELETE-FILE",
               "RENAME-FILE", "WRITE-FILE", "WRITE-LINE", "RESIZE-FILE", "OPEN-FILE",
               "USING", "FLUSH", "SAVE-BUFFERS", "UPDATE", "INCLUDED", "INCLUDE-FILE",
-              "REQUIRED", "INCLUDE", "REQUIRE"}
+              "REQUIRED", "INCLUDE", "REQUIRE", "CREATE-BLOCKS", "MORE"}
 CONTROL = [":", ";", "IF", "ELSE", "THEN", "BEGIN", "UNTIL", "WHILE", "REPEAT",
            "AGAIN", "DO", "?DO", "LOOP", "+LOOP", "LEAVE", "CASE", "OF", "ENDOF",
            "ENDCASE", "DOES>", "[", "]", "(", ")", '."', '"', 'S"', "\\", "RECURSE"]

@@ -34,6 +34,11 @@ before its last primitive; otherwise `slow` runs it one primitive at a
 time, checking before each, so interrupts fire between exactly the same
 primitives as in the reference loop.
 
+Locals (rcl/words/localvars.py) use the same idea for the return stack: a
+primitive may carry extra["compile"], which compiles it itself; a locals
+frame's cells stay Python names (`rs_known`) and the frame is pushed only
+before something that may look at the return stack (`forget_rs`).
+
 Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
 the next call). A definition already running finishes in its old form.
@@ -152,6 +157,8 @@ class Gen:
         self.ntemp = 0
         self.vs = []
         self.dpl = None
+        self.rs_known = None     # atoms known to be the top return-stack cells (locals)
+        self.rs_pending = None   # a line pushing them, not yet emitted (see forget_rs)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -198,9 +205,10 @@ class Gen:
         self.vs = []
 
     # --------------------------------------------------------- simple ops
-    def op_inline(self, p, ind):
-        inputs, outputs = p.inline[0].split(), p.inline[1]
-        stmt = p.inline[2] if len(p.inline) > 2 else None
+    def op_inline(self, p, ind, template=None):
+        template = template or p.inline
+        inputs, outputs = template[0].split(), template[1]
+        stmt = template[2] if len(template) > 2 else None
         if p.touches_memory:
             self.flush_dpl(ind)
         atoms = self.take(len(inputs), ind)
@@ -224,6 +232,13 @@ class Gen:
 
     def op_simple(self, ins, ind):
         p, op = ins.prim, ins.op
+        # A word set may compile its own primitive (the Locals word set keeps
+        # a frame's cells in Python locals: rcl/words/localvars.py); -> True if done.
+        hook = p.extra.get("compile")
+        if hook is not None and hook(self, ins.args, ind):
+            return
+        if not keeps_rs(p, op):
+            self.forget_rs(ind)
         if op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants
@@ -231,6 +246,11 @@ class Gen:
                 self.vs.extend(str(c) for c in cells)
                 if dpl is not None:
                     self.dpl = dpl
+                return
+            # A template made from the inline cells (locals: rs[-k] for k).
+            template = p.extra.get("inline_args", lambda args: None)(ins.args)
+            if template is not None:
+                self.op_inline(p, ind, template)
                 return
             self.flush(ind)
             self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
@@ -282,7 +302,15 @@ class Gen:
         self.emit("if r != %d: return r" % ret, ind)
         self.goto_next(k, ret, ind)
 
+    def forget_rs(self, ind):
+        """Something may look at the return stack: lay down any cells kept
+        back (a locals frame whose reads all came from Python names so far)."""
+        if self.rs_pending:
+            self.emit(self.rs_pending, ind)
+        self.rs_known = self.rs_pending = None
+
     def terminator(self, ins, k, ind):
+        self.forget_rs(ind)
         op = ins.op
         if op is None:                    # block ends where another begins
             self.flush(ind)
@@ -391,11 +419,11 @@ class Gen:
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         self.emit("if m.clock + %d >= m.deadline:" % pre, ind)
         self.emit("slow(m, %s, %d)" % (seq, tcost), ind + 1)
-        self.vs, self.dpl = [], None
+        self.vs, self.dpl, self.rs_known = [], None, None
         self.terminator(term, k, ind + 1)
         self.emit("else:", ind)
         self.emit("m.clock += %d" % (pre + tcost), ind + 1)
-        self.vs, self.dpl = [], None
+        self.vs, self.dpl, self.rs_known = [], None, None
         for i in ops:
             self.op_simple(i, ind + 1)
         self.terminator(term, k, ind + 1)
@@ -436,6 +464,12 @@ class Gen:
             marks.update(range(ins.addr, ins.next if ins.next > ins.addr else ins.addr + 2))
             marks.update((ins.xt, (ins.xt + 1) & MASK))
         return "\n".join(self.lines), marks
+
+
+def keeps_rs(p, op):
+    """Does compiled op p surely leave the return stack alone?"""
+    return op in ("var", "con", "2con") or "lit" in p.extra \
+        or (p.inline is not None and "rs" not in repr(p.inline))
 
 
 def subst(text, env):

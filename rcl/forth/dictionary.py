@@ -51,7 +51,8 @@ class Dictionary:
 
     def allot(self, n):
         h = self.here + n
-        if h > DICT_LIMIT - PAD_OFFSET:
+        # The heap (ALLOCATE) may hold the top of the dictionary area.
+        if h > getattr(self.m, "heap_floor", DICT_LIMIT) - PAD_OFFSET:
             raise ForthError(-8, "Dictionary full")
         if h < self.memory.fetch(self.m.a_fence):
             raise ForthError(-15, "Below fence")

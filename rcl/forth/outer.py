@@ -47,6 +47,7 @@ class Outer:
     def _init_outer(self):
         self.sources = [Source("terminal", INPUT_AREA, 0, INPUT_AREA, iter(()))]
         self.file_ids = 0
+        self.locals = None        # the Locals word set's scope while compiling
 
     # ----------------------------------------------------------- sources
     @property
@@ -161,6 +162,9 @@ class Outer:
             if len(self.s) > 1000:
                 del self.s[:]
                 raise ForthError(-3)
+            if self.locals is not None and fetch(self.a_state) \
+                    and self.locals.compile(self, name):
+                continue                  # a local's name shadows every word
             hit = find(name)
             if hit is not None:
                 xt, immediate = hit
@@ -222,11 +226,12 @@ class Outer:
             if self.sources and self.sources[-1].kind == "evaluate":
                 self.pop_source()
 
-    def include_lines(self, lines, name):
-        """Interpret an iterator of lines as a file source named name."""
+    def include_lines(self, lines, name, source_id=None):
+        """Interpret an iterator of lines as a file source named name
+        (SOURCE-ID: source_id, the file id INCLUDE-FILE was given, or a new one)."""
         self.file_ids += 1
         src = Source("file", buf=self.buffer_top(), text=list(lines), name=name,
-                     source_id=self.file_ids)
+                     source_id=source_id or self.file_ids)
         self.push_source(src)
         try:
             while self.refill():
@@ -254,6 +259,7 @@ class Outer:
         del self.s[:]
         del self.rs[:]
         self.memory.store(self.a_state, 0)
+        self.locals = None
         while len(self.sources) > 1:
             self.pop_source()
         self.memory.store(self.a_blk, 0)

@@ -4,4 +4,6 @@ from rcl.forth import inner  # noqa: F401  (runtimes and control words first)
 from rcl.words import core, memory_access, double, compiling, io, parsing, tools, vocab  # noqa: F401
 from rcl.words import exceptions, blocks, files, system, ports, rclcode  # noqa: F401
 from rcl.words import tracing, saving  # noqa: F401
-from rcl.words import tester  # noqa: F401  (T{ -> }T; last, so no number moves)
+from rcl.words import fileaccess, heap, strings, toolsext  # noqa: F401  (new sets last:
+from rcl.words import facility, localvars  # noqa: F401   earlier numbers stay)
+from rcl.words import tester  # noqa: F401  (T{ -> }T)

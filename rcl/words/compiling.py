@@ -90,6 +90,7 @@ def colon(m):
 
 def begin_colon(m, xt, lfa):
     m.colon_xt, m.colon_lfa = xt, lfa
+    m.locals = None                   # no locals until {: declares them
     m.memory.store(m.a_csp, len(m.s))
     m.memory.store(m.a_state, MASK)
 
@@ -105,6 +106,9 @@ def colon_noname(m):
 def semicolon(m):
     if len(m.s) != m.memory.fetch(m.a_csp):
         raise ForthError(-256, "Stack Changed")
+    if m.locals is not None:          # drop the locals frame (localvars.py)
+        m.locals.unwind(m)
+        m.locals = None
     compile_name(m, "EXIT")
     if getattr(m, "colon_lfa", 0):
         m.dictionary.set_flag(m.colon_lfa, HIDDEN, False)
@@ -468,7 +472,10 @@ def _store_into(m, xt, two=False):
 
 @prim("TO", "( x -- ) set the VALUE that follows", immediate=True)
 def to(m):
-    xt = tick(m, parse_word(m))
+    name = parse_word(m)
+    if compiling(m) and m.locals is not None and m.locals.store(m, name):
+        return
+    xt = tick(m, name)
     cf = m.memory.fetch(xt)
     if cf not in (inner.N["(DOVALUE)"], inner.N["(DO2VALUE)"]):
         raise ForthError(-32, "Not a VALUE", m.dictionary.name_of(xt))

@@ -163,7 +163,8 @@ def align(m):
 @prim("UNUSED", "( -- u ) bytes left in the dictionary")
 def unused(m):
     from rcl.forth.memory import DICT_LIMIT, PAD_OFFSET
-    m.s.append(max(0, DICT_LIMIT - PAD_OFFSET - m.dictionary.here))
+    limit = getattr(m, "heap_floor", DICT_LIMIT)      # the heap's floor, if any
+    m.s.append(max(0, limit - PAD_OFFSET - m.dictionary.here))
 
 
 @prim("NOOP", "( -- )", inline=("", ()))

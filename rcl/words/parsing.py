@@ -101,25 +101,38 @@ def interpret(m):
     m.interpret()
 
 
-@prim("REFILL", "( -- f ) the next line of the input source", kind="call")
+@prim("REFILL", "( -- f ) the next line of the input source; in a block, "
+      "the next block", kind="call")
 def refill(m):
+    blk = m.memory.fetch(m.a_blk)
+    if blk and m.src.kind == "block":
+        from rcl.words.blocks import next_block_source
+        ok = blk + 1 < m.blocks.count
+        if ok:
+            next_block_source(m, blk)
+        m.s.append(MASK if ok else 0)
+        return
     m.s.append(MASK if m.refill() else 0)
 
 
-@prim("SAVE-INPUT", "( -- x1 x2 n ) the input position")
+@prim("SAVE-INPUT", "( -- x1 x2 x3 n ) the input position: >IN, line, BLK")
 def save_input(m):
     src = m.src
-    m.s.extend((m.memory.fetch(m.a_in), src.line & MASK, 2))
+    m.s.extend((m.memory.fetch(m.a_in), src.line & MASK, m.memory.fetch(m.a_blk), 3))
 
 
-@prim("RESTORE-INPUT", "( x1 x2 n -- f ) go back to a saved position")
+@prim("RESTORE-INPUT", "( x1 x2 x3 n -- f ) go back to a saved position")
 def restore_input(m):
     n = m.s.pop()
     vals = [m.s.pop() for _ in range(n)][::-1]
     src = m.src
-    if n != 2 or (vals[1] != src.line & MASK and src.text is None):
+    if n != 3 or (vals[1] != src.line & MASK and src.text is None) \
+            or (vals[2] != 0) != (src.kind == "block"):
         m.s.append(MASK)
         return
+    if vals[2]:                              # a block: that block again
+        m.blocks.block(vals[2])
+        m.memory.store(m.a_blk, vals[2])
     if vals[1] != src.line & MASK:           # a file: go back to that line
         src.line = vals[1] - 1
         m.refill()

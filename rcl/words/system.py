@@ -8,7 +8,7 @@ ENVIRONMENT = {
     "ADDRESS-UNIT-BITS": [8], "FLOORED": [MASK], "MAX-CHAR": [255],
     "MAX-D": [0xFFFF, 0x7FFF], "MAX-N": [0x7FFF], "MAX-U": [0xFFFF],
     "MAX-UD": [0xFFFF, 0xFFFF], "RETURN-STACK-CELLS": [1000],
-    "STACK-CELLS": [1000], "WORDLISTS": [8],
+    "STACK-CELLS": [1000], "WORDLISTS": [8], "#LOCALS": [32],
 }
 
 

@@ -37,3 +37,18 @@ def forth_error():
     import rcl
 
     return rcl.ForthError
+
+
+@pytest.fixture(params=["bare", "full"])
+def system(request):
+    """Each optional word set is tested on both: a bare machine (rcl --bare)
+    and the full system, RCL loaded on the simulated board (rcl.open())."""
+    import rcl
+
+    return rcl.Forth() if request.param == "bare" else rcl.open()
+
+
+@pytest.fixture
+def sys_run(system):
+    """`results` on `system`: sys_run("1 2 +") -> [3]."""
+    return lambda text: results(system, text)
