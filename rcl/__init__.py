@@ -12,7 +12,18 @@ from rcl.forth.machine import Forth  # noqa: E402
 __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 
 
-SCREENS = os.path.join(os.path.dirname(__file__), "screens")
+def _screens_folder():
+    """The RCL screens: rcl/screens once installed (setup.py copies the
+    top-level screens/ there), else screens/ beside the package in a
+    source checkout or an editable install."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    installed = os.path.join(here, "screens")
+    if os.path.isdir(installed):
+        return installed
+    return os.path.join(os.path.dirname(here), "screens")
+
+
+SCREENS = _screens_folder()
 
 
 def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's name)
