@@ -3,3 +3,4 @@ them all, in this order (the order fixes each primitive's number)."""
 from rcl.forth import inner  # noqa: F401  (runtimes and control words first)
 from rcl.words import core, memory_access, double, compiling, io, parsing, tools, vocab  # noqa: F401
 from rcl.words import exceptions, blocks, files, system, ports, rclcode  # noqa: F401
+from rcl.words import help  # noqa: F401
