@@ -28,7 +28,8 @@ SCREENS = _screens_folder()
 
 def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's name)
     """A running system: a machine wired to a simulated board with RCL
-    loaded and INSTALL run (screens=False: the board alone), with `.sim`
+    loaded and INSTALL run (screens=False: the board alone; a folder: RCL
+    from that folder's rcl.fs instead of the installed one), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
     realtime=True the virtual clock keeps pace with the wall clock."""
     from rcl.sim.board import SimBoard
@@ -37,8 +38,9 @@ def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's 
     board = SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
+    m.screens_dir = screens if isinstance(screens, str) else SCREENS
     if screens:
-        m.include(os.path.join(SCREENS, "rcl.fs"))
+        m.include(os.path.join(m.screens_dir, "rcl.fs"))
     if realtime:
         board.pacer = Pacer(m.clock)
     return m

@@ -1,7 +1,8 @@
 """The `rcl` command line: choose a machine, load files, run words, then
 read standard input, either at an interactive prompt or as a pipe.
 
-    rcl [--bare] [FILE ...] [-e WORDS] [--version]
+    rcl [FILE ...] [-e WORDS] [--bare] [--board-only] [--realtime]
+        [--start HH:MM|now] [--screens DIR] [--version] [--help]
 
     make_machine(args) --> load FILEs in order --> run each -e WORDS
         --> stdin is a terminal?  yes: repl.Repl (the ok prompt)
@@ -12,12 +13,14 @@ outside the interactive prompt (a FILE, a -e, a piped line), 2 for a bad
 command line. Nothing here ever lets a Python traceback reach the user.
 """
 import argparse
+import datetime
 import io
 import os
 import sys
 
 import rcl
 from rcl import repl
+from rcl.status import PER_DAY_ADDR, TICKS_ADDR
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")
@@ -98,15 +101,59 @@ class LineFeed:
 
 # ----------------------------------------------------------------- machine
 def make_machine(args, write):
-    """The machine the command line drives: the simulated board (rcl.open)
-    unless --bare asks for plain Forth."""
+    """The machine the command line drives: the simulated board with RCL
+    (rcl.open), the board alone (--board-only), or plain Forth (--bare);
+    its time of day from --start."""
     if args.bare:
         return rcl.Forth(write=write)
-    return rcl.open(write=write, realtime=args.realtime)
+    screens = False if args.board_only else (args.screens or True)
+    m = rcl.open(write=write, realtime=args.realtime, screens=screens)
+    if args.start is not None:
+        set_time_of_day(m, args.start)
+    return m
 
 
 def describe(args):
-    return "bare machine" if args.bare else "simulated board"
+    if args.bare:
+        return "bare machine"
+    return "simulated board" + (", no RCL screens" if args.board_only else "")
+
+
+def start_time(text):
+    """--start: `HH:MM` (24-hour) or `now` -> seconds after midnight."""
+    if text.lower() == "now":
+        t = datetime.datetime.now().time()
+        return t.hour * 3600 + t.minute * 60 + t.second
+    try:
+        hh, mm = text.split(":")
+        hh, mm = int(hh), int(mm)
+    except ValueError:
+        hh = mm = -1
+    if not (0 <= hh < 24 and 0 <= mm < 60):
+        raise argparse.ArgumentTypeError("%r is not HH:MM (24-hour) or now" % text)
+    return hh * 3600 + mm * 60
+
+
+def set_time_of_day(m, seconds):
+    """The BIOS time of day, in ticks of the rate it counts at now."""
+    board = m.sim.board
+    per_day = board.low_fetch32(PER_DAY_ADDR)
+    board.low_store32(TICKS_ADDR, seconds * per_day // 86400)
+
+
+def screens_dir(text):
+    if not os.path.isfile(os.path.join(text, "rcl.fs")):
+        raise argparse.ArgumentTypeError("%s holds no rcl.fs (RCL's load screen)" % text)
+    return text
+
+
+def find_file(path, m):
+    """A FILE of the command line: where named, else in the screens folder
+    (`rcl examples/listing1.fs` from any directory)."""
+    if os.path.exists(path) or os.path.isabs(path):
+        return path
+    there = os.path.join(getattr(m, "screens_dir", None) or rcl.SCREENS, path)
+    return there if os.path.isfile(there) else path
 
 
 # --------------------------------------------------------------- arguments
@@ -120,10 +167,23 @@ def parse_args(argv):
                    help="Forth words to run after the files (may repeat)")
     p.add_argument("--bare", action="store_true",
                    help="a bare F83 machine, no board and no RCL screens")
+    p.add_argument("--board-only", action="store_true",
+                   help="the simulated board without RCL's screens (build RCL "
+                        "layer by layer; INCLUDE rcl.fs loads them all)")
     p.add_argument("--realtime", action="store_true",
-                   help="the simulated robot keeps pace with the wall clock")
+                   help="the simulated robot keeps pace with the wall clock, "
+                        "also while the prompt waits")
+    p.add_argument("--start", type=start_time, metavar="HH:MM|now",
+                   help="the time of day to start at (24-hour), or the host's")
+    p.add_argument("--screens", type=screens_dir, metavar="DIR",
+                   help="load RCL from DIR/rcl.fs instead of the installed screens")
     p.add_argument("--version", action="version", version="rcl " + version())
-    return p.parse_intermixed_args(argv)
+    args = p.parse_intermixed_args(argv)
+    if args.bare and (args.board_only or args.realtime or args.start is not None
+                      or args.screens):
+        p.error("--bare has no board: --board-only, --realtime, --start and "
+                "--screens need one")
+    return args
 
 
 # ------------------------------------------------------------------- loads
@@ -138,8 +198,7 @@ def where(e, name):
 
 def report(out, text):
     """An error of the command line, on stderr, after what stdout holds."""
-    if out.stream.isatty():
-        out.end_line()
+    out.end_line()
     out.flush()
     sys.stderr.write(text + "\n")
     sys.stderr.flush()
@@ -148,7 +207,7 @@ def report(out, text):
 def run_startup(m, args, out):
     """Load the FILEs, then run each -e. -> True, False on an error; Bye
     passes through."""
-    steps = [(m.include, path, path) for path in args.files]
+    steps = [(m.include, find_file(path, m), path) for path in args.files]
     steps += [(m.evaluate, words, "-e") for words in args.words]
     for action, arg, name in steps:
         try:
@@ -174,7 +233,7 @@ def run_pipe(m, out, feed):
         try:
             m.evaluate(line)
         except rcl.ForthError as e:
-            out.write(e.screen() + "\n")
+            out.write(repl.error_text(e) + "\n")   # from a file: file:line first
             status = 1
         except rcl.Bye:
             return status
@@ -212,8 +271,7 @@ def run(argv):
             status = run_pipe(m, out, feed)
         except rcl.Bye:
             status = 0
-        if out.stream.isatty():
-            out.end_line()
+        out.end_line()                           # the shell's prompt starts on its own line
         return status
     shell = repl.Repl(m, out)
     out.write(BANNER % (version(), describe(args)) + "\n")

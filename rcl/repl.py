@@ -21,15 +21,28 @@ prompt string, so what the user types lands after it.
 
 Lines starting with a command of the META table (`#help`, `#clock`, ...)
 are the shell's own; everything else goes to the machine.
+
+While a `:` definition is open the prompt names it (`SQ] `). An error
+inside an open definition abandons it, as F83's ABORT does; the lines up
+to its `;` (the rest of a paste, or what the user types next) are then
+skipped, not run one by one as interpreted words, and the screen says so.
+An error from a file shows its file and line, as gforth does.
+
+On a capable terminal with a simulated board, rcl.status keeps a status
+line at the bottom; while a word runs, keys typed ahead are neither echoed
+nor lost (the terminal's echo is off): the next prompt takes them.
 """
+import contextlib
 import math
 import os
 import shutil
 import sys
+import threading
 
 import rcl
-
-HISTORY = "~/.rcl_history"
+from rcl import status
+from rcl.forth.dictionary import HIDDEN
+from rcl.forth.primitives import CLOCK_HZ
 
 
 # ------------------------------------------------------------ meta-commands
@@ -64,6 +77,15 @@ def meta_stack(shell, arg):
     return True
 
 
+@meta("#bell", "#bell off: beeps show on the status line without the terminal bell")
+def meta_bell(shell, arg):
+    shell.bell = arg.lower() != "off"
+    if shell.status:
+        shell.status.bell = shell.bell
+    shell.out.write("bell %s" % ("on" if shell.bell else "off"))
+    return True
+
+
 @meta("#bye", "leave rcl (as BYE or Ctrl-D)")
 def meta_bye(shell, arg):
     return False
@@ -73,38 +95,62 @@ def meta_bye(shell, arg):
 class Repl:
     """The ok prompt over machine `m`, drawing on `out` (cli.Output)."""
 
-    def __init__(self, m, out, term=None):
+    def __init__(self, m, out, term=None, bell=True):
         self.m, self.out = m, out
-        self.term = term or make_terminal(out)
+        self.bell = bell
+        self.status = None
+        if term is None and hasattr(m, "sim") and shows_status(out):
+            lock = threading.RLock()
+            out.stream = status.LockedStream(out.stream, lock)
+            self.status = status.StatusLine(m, out.stream, lock, bell)
+        self.term = term or make_terminal(out, m, self.status)
         self.pending = []             # further lines of a multi-line paste
+        self.skipping = None          # an abandoned definition whose lines are skipped
         m.read_line = self.accept_line
         m.read_key = self.read_key
+        m.columns = shutil.get_terminal_size().columns
 
     def run(self):
         """Read, interpret, show; until Ctrl-D, BYE or #bye."""
+        if self.status:
+            self.status.start()
+        try:
+            self.loop()
+        finally:
+            if self.status:
+                self.status.stop()
+        self.out.end_line()
+
+    def loop(self):
         while True:
             try:
                 if not self.onecmd(self.next_line(self.begin_line())):
                     break
             except KeyboardInterrupt:            # Ctrl-C at the prompt: clear the line
                 self.pending.clear()
+                self.skipping = None
             except EOFError:
                 break
-        self.out.end_line()
 
     def onecmd(self, line):
         """Run one line and show how it ended. -> False to leave. Nothing
         raised here may leave the loop."""
         name, arg = (line.split(None, 1) + ["", ""])[:2]
         command = META.get(name.lower())
+        if command:
+            return command[0](self, arg.strip())
+        if self.skipping:
+            return self.skip(line)
+        last, was_open = self.m.dictionary.last, self.m.compiling
         try:
-            if command:
-                return command[0](self, arg.strip())
-            self.m.evaluate(line)
+            self.catch_up()
+            with self.running():
+                self.m.evaluate(line)
             if not self.m.compiling:
                 self.out.write(" ok")
         except rcl.ForthError as e:
-            self.out.write(e.screen())
+            self.out.write(error_text(e))
+            self.abandoned(line, last, was_open)
         except rcl.Bye:
             return False
         except KeyboardInterrupt:
@@ -115,6 +161,56 @@ class Repl:
             self.out.write(" Internal error: %s: %s " % (type(e).__name__, e))
         return True
 
+    @contextlib.contextmanager
+    def running(self):
+        """While a word runs: the status line kept fresh, typed keys kept
+        for the next prompt and not echoed over the output."""
+        if self.status:
+            self.status.resume()
+        try:
+            with quiet_keys(self.term):
+                yield
+        finally:
+            if self.status:
+                self.status.pause()
+
+    def catch_up(self):
+        """In real time the board's clock runs while the prompt waits: let
+        the idle machine's clock (interrupts and all) reach the wall clock."""
+        pacer = getattr(self.m.board, "pacer", None)
+        if pacer is not None and hasattr(self.m, "sim"):
+            behind = pacer.wall() - pacer.start_wall - \
+                (self.m.clock - pacer.start_clock) / CLOCK_HZ
+            if behind > 0:
+                self.m.sim.run(behind)
+
+    # ------------------------------------------------- open definitions
+    def open_definition(self):
+        """The name of the `:` definition being compiled, '' if it has none."""
+        d = self.m.dictionary
+        if d.last and d.flags(d.last) & HIDDEN:
+            return d.name_of((d.last + 2) & 0xFFFF) or ""
+        return ""
+
+    def abandoned(self, line, last, was_open):
+        """After an error: was a definition open? Then skip its other lines."""
+        d = self.m.dictionary
+        opened = d.last != last and d.last and d.flags(d.last) & HIDDEN
+        if not (was_open or opened) or ends_definition(line):
+            return
+        name = (d.name_of((d.last + 2) & 0xFFFF) if d.last else "") or "the definition"
+        self.skipping = name
+        self.out.write("\n%s is abandoned: the lines up to its ; are skipped, "
+                       "not run (Ctrl-C stops skipping)" % name)
+
+    def skip(self, line):
+        if ends_definition(line):
+            self.skipping = None
+            self.out.write(" skipped, the definition is over")
+        else:
+            self.out.write(" skipped")
+        return True
+
     def abort(self):
         try:
             self.m.abort()
@@ -123,8 +219,13 @@ class Repl:
 
     # --------------------------------------------------------- screen lines
     def begin_line(self):
-        """F83's CR before each read; -> '' (the new line holds nothing)."""
+        """F83's CR before each read; -> what the new line shows first: ''
+        or, while a definition is open or skipped, a continuation prompt."""
         self.out.end_line()
+        if self.skipping:
+            return "(skipping %s) " % self.skipping
+        if self.m.compiling:
+            return "%s] " % self.open_definition()
         return ""
 
     def visible_tail(self):
@@ -180,6 +281,17 @@ class Repl:
         return self.term.read_key()
 
 
+def error_text(e):
+    """F83's text for an error; from a file, `file:line:` first (gforth)."""
+    if e.file:
+        return " %s:%s: %s " % (e.file, e.line, e.display())
+    return e.screen()
+
+
+def ends_definition(line):
+    return ";" in line.split()
+
+
 # ---------------------------------------------------------------- terminals
 # Terminal handling, in one place. A terminal has read(shown) -> str
 # (EOFError at Ctrl-D, KeyboardInterrupt at Ctrl-C, leaving `shown` on the
@@ -190,14 +302,58 @@ def is_dumb():
     return os.environ.get("TERM", "").lower() in ("dumb", "unknown")
 
 
-def make_terminal(out):
+def make_terminal(out, m=None, status_line=None):
     """prompt_toolkit when both ends are terminals, else plain input()."""
     if sys.stdin.isatty() and out.stream.isatty():
         try:
-            return PromptTerminal(out)
+            return PromptTerminal(out, m, status_line)
         except Exception:
             pass
     return PlainTerminal(out)
+
+
+def shows_status(out):
+    """A status line needs a capable terminal and prompt_toolkit's prompt."""
+    try:
+        import prompt_toolkit  # noqa: F401
+    except Exception:
+        return False
+    return sys.stdin.isatty() and out.stream.isatty() and not is_dumb()
+
+
+@contextlib.contextmanager
+def quiet_keys(term):
+    """The terminal's echo and line editing off (Ctrl-C still interrupts):
+    keys typed while a word runs stay queued for the next prompt."""
+    try:
+        import termios
+        fd = sys.stdin.fileno()
+        saved = termios.tcgetattr(fd)
+    except Exception:
+        yield
+        return
+    if not isinstance(term, PromptTerminal):
+        yield                                    # input() reads a cooked line
+        return
+    quiet = list(saved)
+    quiet[0] &= ~termios.ICRNL                   # Enter stays Enter for the prompt
+    quiet[3] &= ~(termios.ECHO | termios.ICANON)
+    try:
+        termios.tcsetattr(fd, termios.TCSANOW, quiet)
+        yield
+    finally:
+        termios.tcsetattr(fd, termios.TCSANOW, saved)
+
+
+def history_path():
+    """The prompt's history, in the user's data directory."""
+    if sys.platform == "win32":
+        base = os.environ.get("APPDATA") or os.path.expanduser("~")
+    elif sys.platform == "darwin":
+        base = os.path.expanduser("~/Library/Application Support")
+    else:
+        base = os.environ.get("XDG_DATA_HOME") or os.path.expanduser("~/.local/share")
+    return os.path.join(base, "rcl", "history")
 
 
 def read_tty_key():
@@ -224,17 +380,25 @@ def read_tty_key():
 
 
 class PromptTerminal:
-    """prompt_toolkit: line editing, history in ~/.rcl_history. Started at
-    column 0 it draws `shown` and the typed line, and erases it all when
-    done (so it rewinds), except on a dumb terminal, where it only echoes
-    and moves on."""
+    """prompt_toolkit: line editing, TAB completion of the words in the
+    search order, history (Ctrl-R searches it) in the user's data directory.
+    Started at column 0 it draws `shown` and the typed line, and erases it
+    all when done (so it rewinds), except on a dumb terminal, where it only
+    echoes and moves on. With a status line it redraws it after each of its
+    renders, and renders each second (the clock may run)."""
 
-    def __init__(self, out):
+    def __init__(self, out, m=None, status_line=None):
         from prompt_toolkit import PromptSession
         self.out = out
         self.rewinds = not is_dumb()
-        self.session = PromptSession(history=quiet_history(),
-                                     erase_when_done=True)
+        extra = {}
+        if status_line is not None:
+            extra["refresh_interval"] = 1.0
+        self.session = PromptSession(history=quiet_history(), erase_when_done=True,
+                                     completer=word_completer(m) if m else None,
+                                     complete_while_typing=False, **extra)
+        if status_line is not None:
+            self.session.app.after_render += lambda app: status_line.draw()
 
     def read(self, shown):
         if not self.rewinds:
@@ -269,7 +433,42 @@ def quiet_history():
             except Exception:
                 pass
 
-    return QuietFileHistory(os.path.expanduser(HISTORY))
+    path = history_path()
+    try:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+    except OSError:
+        pass
+    return QuietFileHistory(path)
+
+
+def word_completer(m):
+    """TAB: the words of the current search order that start with what is
+    typed, in any case, first vocabulary first, newest first."""
+    from prompt_toolkit.completion import Completer, Completion
+
+    class WordCompleter(Completer):
+        def get_completions(self, document, complete_event):
+            typed = document.get_word_before_cursor(WORD=True)
+            if not typed:
+                return
+            key = typed.upper()
+            for name in search_order_names(m):
+                if name.upper().startswith(key):
+                    yield Completion(name, start_position=-len(typed))
+
+    return WordCompleter()
+
+
+def search_order_names(m):
+    d, seen = m.dictionary, set()
+    for wid in d.order():
+        for lfa in d.lfas(wid):
+            if d.flags(lfa) & HIDDEN:
+                continue
+            name = d.name_of((lfa + 2) & 0xFFFF)
+            if name and name.upper() not in seen:
+                seen.add(name.upper())
+                yield name
 
 
 class PlainTerminal:

@@ -1,5 +1,5 @@
 \ Layer 9, time: delays, the time of day, the beeper.
-\ Adds MS SECONDS MINUTES BEEP AM PM WAIT-UNTIL .TIME. Relies on TICKS@
+\ Adds MS SECONDS MINUTES BEEP AM PM WAIT-UNTIL .TIME SET-CLOCK. Relies on TICKS@
 \ (layer 2) and the relay words. MS is Listing 3's calibrated loop
 \ `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word spends exactly that loop's
 \ virtual time, with every tick still serviced (f83-semantics.md 13).
@@ -27,3 +27,6 @@ END-CODE
 : .TIME  ( -- )   \ hh:mm:ss
    TICKS@ 100 MU/MOD ROT DROP  60 MU/MOD ROT >R  60 MU/MOD ROT >R  DROP
    .00 [CHAR] : EMIT  R> .00 [CHAR] : EMIT  R> .00 SPACE ;
+: SET-CLOCK  ( hh mm -- )   \ set the time of day, 24-hour: 13 30 SET-CLOCK
+   DUP 0 60 WITHIN 0= ABORT" Bad time"  OVER 0 24 WITHIN 0= ABORT" Bad time"
+   SWAP 60 * +  6000 UM* TICKS! ;
