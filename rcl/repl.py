@@ -32,6 +32,7 @@ On a capable terminal with a simulated board, rcl.status keeps a status
 line at the bottom; while a word runs, keys typed ahead are neither echoed
 nor lost (the terminal's echo is off): the next prompt takes them.
 """
+import atexit
 import contextlib
 import math
 import os
@@ -109,6 +110,7 @@ class Repl:
         m.read_line = self.accept_line
         m.read_key = self.read_key
         m.columns = shutil.get_terminal_size().columns
+        self.give_back_keys = hold_keys(self.term)
 
     def run(self):
         """Read, interpret, show; until Ctrl-D, BYE or #bye."""
@@ -119,6 +121,7 @@ class Repl:
         finally:
             if self.status:
                 self.status.stop()
+            self.give_back_keys()
         self.out.end_line()
 
     def loop(self):
@@ -163,13 +166,11 @@ class Repl:
 
     @contextlib.contextmanager
     def running(self):
-        """While a word runs: the status line kept fresh, typed keys kept
-        for the next prompt and not echoed over the output."""
+        """While a word runs: the status line kept fresh."""
         if self.status:
             self.status.resume()
         try:
-            with quiet_keys(self.term):
-                yield
+            yield
         finally:
             if self.status:
                 self.status.pause()
@@ -321,28 +322,32 @@ def shows_status(out):
     return sys.stdin.isatty() and out.stream.isatty() and not is_dumb()
 
 
-@contextlib.contextmanager
-def quiet_keys(term):
-    """The terminal's echo and line editing off (Ctrl-C still interrupts):
-    keys typed while a word runs stay queued for the next prompt."""
+def hold_keys(term):
+    """From now on the terminal's echo and line editing are off (Ctrl-C
+    still interrupts) except while the prompt reads, so keys typed while a
+    word runs, or between two prompts, stay queued for the next prompt,
+    unechoed and unchanged. -> a function that gives the terminal back as
+    it was (also run at exit)."""
+    if not isinstance(term, PromptTerminal):
+        return lambda: None                      # input() needs a cooked line
     try:
         import termios
         fd = sys.stdin.fileno()
         saved = termios.tcgetattr(fd)
-    except Exception:
-        yield
-        return
-    if not isinstance(term, PromptTerminal):
-        yield                                    # input() reads a cooked line
-        return
-    quiet = list(saved)
-    quiet[0] &= ~termios.ICRNL                   # Enter stays Enter for the prompt
-    quiet[3] &= ~(termios.ECHO | termios.ICANON)
-    try:
+        quiet = list(saved)
+        quiet[0] &= ~termios.ICRNL               # Enter stays Enter for the prompt
+        quiet[3] &= ~(termios.ECHO | termios.ICANON)
         termios.tcsetattr(fd, termios.TCSANOW, quiet)
-        yield
-    finally:
-        termios.tcsetattr(fd, termios.TCSANOW, saved)
+    except Exception:
+        return lambda: None
+
+    def restore():
+        try:
+            termios.tcsetattr(fd, termios.TCSANOW, saved)
+        except Exception:
+            pass
+    atexit.register(restore)
+    return restore
 
 
 def history_path():
