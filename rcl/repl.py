@@ -103,7 +103,7 @@ class Repl:
         if term is None and hasattr(m, "sim") and shows_status(out):
             lock = threading.RLock()
             out.stream = status.LockedStream(out.stream, lock)
-            self.status = status.StatusLine(m, out.stream, lock, bell)
+            self.status = status.StatusLine(m, out.stream, lock, bell, self.catch_up)
         self.term = term or make_terminal(out, m, self.status)
         self.pending = []             # further lines of a multi-line paste
         self.skipping = None          # an abandoned definition whose lines are skipped
@@ -403,7 +403,7 @@ class PromptTerminal:
                                      completer=word_completer(m) if m else None,
                                      complete_while_typing=False, **extra)
         if status_line is not None:
-            self.session.app.after_render += lambda app: status_line.draw()
+            self.session.app.after_render += lambda app: status_line.draw_idle()
 
     def read(self, shown):
         if not self.rewinds:

@@ -93,8 +93,9 @@ class StatusLine:
     """The status on the terminal's last row of `stream`, for machine m.
     `bell`: ring the terminal bell when a beep starts."""
 
-    def __init__(self, m, stream, lock, bell=True):
+    def __init__(self, m, stream, lock, bell=True, on_idle=None):
         self.m, self.stream, self.lock, self.bell = m, stream, lock, bell
+        self.on_idle = on_idle            # called before a drawing at the prompt
         self.rows = 0
         self.beeps_seen = len(m.sim.board.beeps)
         self.running = None               # (stop event, thread) while a word runs
@@ -122,6 +123,15 @@ class StatusLine:
             out += "\x1b[%d;1H\x1b[7m%s\x1b[0m\x1b[K\x1b8" % (rows, line)
             self.stream.write(out + ("\a" if ring else ""))
             self.stream.flush()
+
+    def draw_idle(self):
+        """At the prompt (the machine idle): let on_idle run, then draw."""
+        if self.on_idle is not None:
+            try:
+                self.on_idle()
+            except Exception:                    # the next line will show any error
+                pass
+        self.draw()
 
     def safe_text(self):
         try:

@@ -163,6 +163,7 @@ def test_realtime_clock_runs_while_the_prompt_waits(console):
     child.sendline(".TIME")
     child.expect(r"10:00:0\d  ok")
     time.sleep(2.0)                          # the wall clock passes at the prompt
+    child.expect(r"\x1b\[7m10:00:0[2-9]")     # and the status line shows it
     child.sendline(".TIME")
     child.expect(r"10:00:(\d\d)  ok")
     assert int(child.match.group(1)) >= 2
