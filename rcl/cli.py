@@ -224,16 +224,24 @@ def run_startup(m, args, out):
 # -------------------------------------------------------------------- pipe
 def run_pipe(m, out, feed):
     """Interpret piped lines; every error shows as on F83's screen, and the
-    next line still runs. -> 0, or 1 if any line failed."""
-    status = 0
+    next line still runs, except the rest of a definition the error
+    abandoned (repl.OpenDefinition). -> 0, or 1 if any line failed."""
+    status, guard = 0, repl.OpenDefinition(m)
     while True:
         line = feed.line()
         if line is None:
             return status
+        if guard.skipping:
+            out.write(line + guard.skip(line) + "\n")
+            continue
+        guard.before()
         try:
             m.evaluate(line)
         except rcl.ForthError as e:
             out.write(repl.error_text(e) + "\n")   # from a file: file:line first
+            name = guard.failed(line)
+            if name:
+                out.write("%s is abandoned: the lines up to its ; are skipped\n" % name)
             status = 1
         except rcl.Bye:
             return status

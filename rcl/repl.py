@@ -103,7 +103,7 @@ class Repl:
             self.status = status.StatusLine(m, out.stream, lock, bell, self.catch_up)
         self.term = term or make_terminal(out, m, self.status)
         self.pending = []             # further lines of a multi-line paste
-        self.skipping = None          # an abandoned definition whose lines are skipped
+        self.guard = OpenDefinition(m)
         m.read_line = self.accept_line
         m.read_key = self.read_key
         m.columns = shutil.get_terminal_size().columns
@@ -128,7 +128,7 @@ class Repl:
                     break
             except KeyboardInterrupt:            # Ctrl-C at the prompt: clear the line
                 self.pending.clear()
-                self.skipping = None
+                self.guard.skipping = None
             except EOFError:
                 break
 
@@ -139,9 +139,9 @@ class Repl:
         command = META.get(name.lower())
         if command:
             return command[0](self, arg.strip())
-        if self.skipping:
+        if self.guard.skipping:
             return self.skip(line)
-        last, was_open = self.m.dictionary.last, self.m.compiling
+        self.guard.before()
         try:
             self.catch_up()
             with self.running():
@@ -150,7 +150,7 @@ class Repl:
                 self.out.write(" ok")
         except rcl.ForthError as e:
             self.out.write(error_text(e))
-            self.abandoned(line, last, was_open)
+            self.abandoned(line)
         except rcl.Bye:
             return False
         except KeyboardInterrupt:
@@ -183,30 +183,15 @@ class Repl:
                 self.m.sim.run(behind)
 
     # ------------------------------------------------- open definitions
-    def open_definition(self):
-        """The name of the `:` definition being compiled, '' if it has none."""
-        d = self.m.dictionary
-        if d.last and d.flags(d.last) & HIDDEN:
-            return d.name_of((d.last + 2) & 0xFFFF) or ""
-        return ""
-
-    def abandoned(self, line, last, was_open):
+    def abandoned(self, line):
         """After an error: was a definition open? Then skip its other lines."""
-        d = self.m.dictionary
-        opened = d.last != last and d.last and d.flags(d.last) & HIDDEN
-        if not (was_open or opened) or ends_definition(line):
-            return
-        name = (d.name_of((d.last + 2) & 0xFFFF) if d.last else "") or "the definition"
-        self.skipping = name
-        self.out.write("\n%s is abandoned: the lines up to its ; are skipped, "
-                       "not run (Ctrl-C stops skipping)" % name)
+        name = self.guard.failed(line)
+        if name:
+            self.out.write("\n%s is abandoned: the lines up to its ; are skipped, "
+                           "not run (Ctrl-C stops skipping)" % name)
 
     def skip(self, line):
-        if ends_definition(line):
-            self.skipping = None
-            self.out.write(" skipped, the definition is over")
-        else:
-            self.out.write(" skipped")
+        self.out.write(self.guard.skip(line))
         return True
 
     def abort(self):
@@ -220,10 +205,10 @@ class Repl:
         """F83's CR before each read; -> what the new line shows first: ''
         or, while a definition is open or skipped, a continuation prompt."""
         self.out.end_line()
-        if self.skipping:
-            return "(skipping %s) " % self.skipping
+        if self.guard.skipping:
+            return "(skipping %s) " % self.guard.skipping
         if self.m.compiling:
-            return "%s] " % self.open_definition()
+            return "%s] " % self.guard.name()
         return ""
 
     def visible_tail(self):
@@ -270,13 +255,28 @@ class Repl:
         """ACCEPT/QUERY at the prompt: a line typed after what is shown;
         None at Ctrl-D. Ctrl-C propagates: the machine aborts."""
         try:
-            return self.next_line(self.visible_tail())
+            with self.status_held():
+                return self.next_line(self.visible_tail())
         except EOFError:
             return None
 
     def read_key(self):
         self.out.flush()
-        return self.term.read_key()
+        with self.status_held():
+            return self.term.read_key()
+
+    @contextlib.contextmanager
+    def status_held(self):
+        """A word reads the keyboard: the prompt draws the status line
+        meanwhile, not the thread (they must not write at once)."""
+        held = self.status is not None and self.status.running is not None
+        if held:
+            self.status.pause()
+        try:
+            yield
+        finally:
+            if held:
+                self.status.resume()
 
 
 def error_text(e):
@@ -288,3 +288,46 @@ def error_text(e):
 
 def ends_definition(line):
     return ";" in line.split()
+
+
+class OpenDefinition:
+    """Keeps an error inside an open `:` definition from turning the rest
+    of it into commands. F83's ABORT abandons the definition; its further
+    lines (a paste, a pipe, what the user types next) would then run one by
+    one, interpreted: `FORWARD` would start the motors. So after such an
+    error the lines up to one holding `;` are skipped.
+
+        before()        before each line runs
+        failed(line)    after it failed: the abandoned definition's name, or ''
+        skipping        that name while lines are being skipped
+        skip(line)      what to show for a skipped line
+    """
+
+    def __init__(self, m):
+        self.m = m
+        self.skipping = None
+        self.last, self.was_open = None, False
+
+    def name(self):
+        """The name of the definition being compiled, '' if it has none."""
+        d = self.m.dictionary
+        if d.last and d.flags(d.last) & HIDDEN:
+            return d.name_of((d.last + 2) & 0xFFFF) or ""
+        return ""
+
+    def before(self):
+        self.last, self.was_open = self.m.dictionary.last, self.m.compiling
+
+    def failed(self, line):
+        d = self.m.dictionary
+        opened = d.last != self.last and d.last and d.flags(d.last) & HIDDEN
+        if not (self.was_open or opened) or ends_definition(line):
+            return ""
+        self.skipping = self.name() or "the definition"
+        return self.skipping
+
+    def skip(self, line):
+        if ends_definition(line):
+            self.skipping = None
+            return " skipped, the definition is over"
+        return " skipped"

@@ -272,3 +272,14 @@ def test_e_output_ends_with_a_newline():
 def rcl_module():
     import rcl as package
     return package
+
+
+def test_lines_after_an_error_in_an_open_definition_are_skipped_up_to_its_semicolon():
+    done = rcl(stdin=": BAD 1\nfoo\n7 .\n8 . ;\n9 .\n")
+    assert done.stdout == ("FOO  ? \nBAD is abandoned: the lines up to its ; are skipped\n"
+                           "7 . skipped\n8 . ; skipped, the definition is over\n9 \n")
+    assert done.returncode == 1
+
+
+def test_an_error_in_a_one_line_definition_skips_nothing():
+    assert rcl(stdin=": OK 1 foo 2 ;\n3 .\n").stdout == "FOO  ? \n3 \n"
