@@ -62,7 +62,7 @@ def text(m):
     sim = m.sim
     x, y, heading = sim.pose
     parts = [time_of_day(sim.board),
-             "x %.1f y %.1f in  heading %.1f" % (x, y, heading),
+             "x %.1f y %.1f in  heading %.1f" % (x, y, heading % 360),
              move_text(m),
              "arm %.2f jaw %.2f in" % (sim.arm, sim.jaw),
              "stack %d" % len(m.s),

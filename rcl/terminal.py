@@ -120,7 +120,7 @@ class PromptTerminal:
         self.rewinds = not is_dumb()
         extra = {}
         if status_line is not None:
-            extra["refresh_interval"] = 1.0
+            extra.update(refresh_interval=1.0, output=output_above_status())
         self.session = PromptSession(history=quiet_history(), erase_when_done=True,
                                      completer=word_completer(m) if m else None,
                                      complete_while_typing=False, **extra)
@@ -140,6 +140,18 @@ class PromptTerminal:
 
     def read_key(self):
         return read_tty_key()
+
+
+def output_above_status():
+    """prompt_toolkit's output to the terminal, one row shorter than the
+    screen: the last row is the status line's, outside the scroll region,
+    and a prompt drawn down to it would scroll the session up."""
+    from prompt_toolkit.data_structures import Size
+    from prompt_toolkit.output.vt100 import Vt100_Output
+    output = Vt100_Output.from_pty(sys.stdout, term=os.environ.get("TERM"))
+    full = output.get_size
+    output.get_size = lambda: Size(rows=max(1, full().rows - 1), columns=full().columns)
+    return output
 
 
 def quiet_history():
