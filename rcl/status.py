@@ -15,6 +15,7 @@ prompt waits, the prompt redraws it after each of its own renders (same
 thread as the prompt: the two never write at once). Every write to the
 terminal goes through one lock.
 """
+import os
 import shutil
 import threading
 
@@ -101,7 +102,11 @@ class StatusLine:
         self.running = None               # (stop event, thread) while a word runs
 
     def size(self):
-        size = shutil.get_terminal_size()
+        """The terminal's own size (not $LINES/$COLUMNS, which may be stale)."""
+        try:
+            size = os.get_terminal_size(self.stream.fileno())
+        except (AttributeError, ValueError, OSError):
+            size = shutil.get_terminal_size()
         return max(size.lines, 3), max(size.columns, 10)
 
     def start(self):

@@ -174,3 +174,47 @@ def test_help_alone_shows_how_to_start(console):
     child.sendline("HELP")
     child.expect_exact("RERB 2 MPH 3.4 FEET FORWARD")
     child.expect_exact("INCLUDE examples/listing1.fs")
+
+
+# ------------------------------------------------ the screen, through tmux
+# tmux is a real terminal emulator that answers cursor-position requests
+# (pexpect does not): what it shows is what a user sees.
+def tmux(*args):
+    import subprocess
+    return subprocess.run(["tmux", *args], capture_output=True, text=True, timeout=10)
+
+
+def screen_until(session, predicate):
+    """The tmux screen's rows once predicate(rows) holds; bounded wait."""
+    import time
+    for _ in range(200):
+        rows = tmux("capture-pane", "-t", session, "-p").stdout.rstrip("\n").split("\n")
+        if predicate(rows):
+            return rows
+        time.sleep(0.1)
+    raise AssertionError("screen never showed it:\n" + "\n".join(rows))
+
+
+@pytest.fixture
+def tmux_rcl(tmp_path):
+    import shutil
+    if shutil.which("tmux") is None:
+        pytest.skip("tmux is not installed")
+    session = "rcl-test-%d" % os.getpid()
+    command = "env PYTHONPATH=%s HOME=%s XDG_DATA_HOME=%s TERM=xterm %s -m rcl --start 07:15" % (
+        ROOT, tmp_path, tmp_path / "data", sys.executable)
+    tmux("-f", "/dev/null", "new-session", "-d", "-s", session, "-x", "80", "-y", "12", command)
+    yield session
+    tmux("kill-session", "-t", session)
+
+
+def test_the_status_line_keeps_the_last_row_and_the_session_scrolls_above_it(tmux_rcl):
+    screen_until(tmux_rcl, lambda rows: rows[-1].startswith("07:15:"))
+    for n in range(15):                          # more lines than the screen has
+        tmux("send-keys", "-t", tmux_rcl, "%d ." % n, "Enter")
+        screen_until(tmux_rcl, lambda rows: any(r.startswith("%d . %d  ok" % (n, n))
+                                                for r in rows))
+    rows = screen_until(tmux_rcl, lambda rows: "14 . 14  ok" in rows)
+    assert rows[-1].startswith("07:15:") and "stack 0" in rows[-1]
+    assert "13 . 13  ok" in rows                 # the session scrolled above the status row
+    assert rows.index("14 . 14  ok") == len(rows) - 3    # then the empty prompt's row
