@@ -5,9 +5,9 @@
 \ virtual time, with every tick still serviced (f83-semantics.md 13).
 CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time.
 END-CODE
-: MS  ( milliseconds -- )   (MS) ;
-: SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;
-: MINUTES  ( minutes -- )   0 ?DO 60 SECONDS LOOP ;
+: MS  ( milliseconds -- )   (MS) ;   \ wait, Listing 3's calibrated loop
+: SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;   \ wait n times 1000 MS
+: MINUTES  ( minutes -- )   0 ?DO 60 SECONDS LOOP ;   \ wait n times 60 SECONDS
 : BEEP  ( -- )   BEEP-ON 100 MS BEEP-OFF 100 MS ;   \ two BEEPs are two sounds
 
 \ The time of day is counted in 10 ms ticks since midnight once INSTALL
@@ -16,7 +16,7 @@ END-CODE
    DUP 0 13 WITHIN 0= ABORT" Bad time"  OVER 0< ABORT" Bad time"
    >V4 36 1 M*/ ;
 : AM  ( num -- d )   FIXED  DUP 12 = IF DROP 0 THEN  HOURS ;   \ 12 AM is midnight
-: PM  ( num -- d )   FIXED  DUP 12 = >R HOURS R> 0= IF 4320000. D+ THEN ;
+: PM  ( num -- d )   FIXED  DUP 12 = >R HOURS R> 0= IF 4320000. D+ THEN ;   \ afternoon hours to ticks: 1.5 PM
 
 CODE (SKIP-TO-TICK)  ( d -- )  let the clock run to that tick at once.
 END-CODE
