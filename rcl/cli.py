@@ -20,7 +20,7 @@ import sys
 
 import rcl
 from rcl import repl
-from rcl.status import PER_DAY_ADDR, TICKS_ADDR
+from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")

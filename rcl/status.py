@@ -19,8 +19,9 @@ import os
 import shutil
 import threading
 
+from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR   # the BIOS time of day
+
 CELL = 0xFFFF
-TICKS_ADDR, PER_DAY_ADDR = 0x46C, 0x4F0       # the BIOS time of day (sim/board.py)
 REFRESH_S = 0.2
 
 
