@@ -41,6 +41,7 @@ def open(realtime=False, write=None, screens=True):  # noqa: A001  (DESIGN.md's 
     m.screens_dir = screens if isinstance(screens, str) else SCREENS
     if screens:
         m.include(os.path.join(m.screens_dir, "rcl.fs"))
+    m.documented_end = m.dictionary.here      # HELP: later words are the user's
     if realtime:
         board.pacer = Pacer(m.clock)
     return m

@@ -107,3 +107,10 @@ def test_documents_point_only_inside_the_repository(path):
         if "://" in target:
             continue
         assert os.path.exists(os.path.join(os.path.dirname(path), target)), target
+
+
+def test_help_of_a_word_the_user_defined_again_says_so():
+    m = rcl.open()
+    out = m.evaluate(": FORWARD 1 ; HELP FORWARD")
+    assert "Layer 8, command language" in out
+    assert "defined again since start-up: SEE FORWARD shows this one" in out

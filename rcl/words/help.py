@@ -51,13 +51,16 @@ def help_word(m):
     if not name:
         m.type("\n" + (START if m.dictionary.find("RERB") else NO_RCL))
         return
-    if m.dictionary.find(name) is None:
+    hit = m.dictionary.find(name)
+    if hit is None:
         raise ForthError(-13, "?", name.upper())
-    entry = wordinfo.lookup(name)
+    entry, word = wordinfo.lookup(name), name.upper()
     if entry is None:
-        m.type("\n%s  a word of your own: SEE %s shows it\n" % (name.upper(), name.upper()))
-    else:
-        m.type("\n" + entry.help() + "\n")
+        m.type("\n%s  a word of your own: SEE %s shows it\n" % (word, word))
+        return
+    m.type("\n" + entry.help() + "\n")
+    if hit[0] >= getattr(m, "documented_end", m.memory.fetch(m.a_fence)):
+        m.type("  (defined again since start-up: SEE %s shows this one)\n" % word)
 
 
 @prim("RCL-WORDS", "( -- ) RCL's words, layer by layer, as each screen lists them",
