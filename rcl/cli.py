@@ -161,8 +161,11 @@ def parse_args(argv):
     p = argparse.ArgumentParser(
         prog="rcl", description="RCL, an F83-style Forth for the 1986 R-E Robot.",
         epilog="Files load first, in order, then each -e, then standard input: "
-               "a prompt on a terminal, else plain Forth source (no prompts).")
-    p.add_argument("files", nargs="*", metavar="FILE", help="Forth source to load")
+               "a prompt on a terminal, else plain Forth source (no prompts). "
+               "At the prompt, HELP shows how to start.")
+    p.add_argument("files", nargs="*", metavar="FILE",
+                   help="Forth source to load; also looked for in RCL's screens "
+                        "folder (examples/listing1.fs is the article's square)")
     p.add_argument("-e", dest="words", action="append", default=[], metavar="WORDS",
                    help="Forth words to run after the files (may repeat)")
     p.add_argument("--bare", action="store_true",
