@@ -104,6 +104,7 @@ class Repl:
         self.term = term or make_terminal(out, m, self.status)
         self.pending = []             # further lines of a multi-line paste
         self.guard = OpenDefinition(m)
+        self.busy = False             # a word is running
         m.read_line = self.accept_line
         m.read_key = self.read_key
         m.columns = shutil.get_terminal_size().columns
@@ -164,19 +165,22 @@ class Repl:
     @contextlib.contextmanager
     def running(self):
         """While a word runs: the status line kept fresh."""
+        self.busy = True
         if self.status:
             self.status.resume()
         try:
             yield
         finally:
+            self.busy = False
             if self.status:
                 self.status.pause()
 
     def catch_up(self):
         """In real time the board's clock runs while the prompt waits: let
-        the idle machine's clock (interrupts and all) reach the wall clock."""
+        the idle machine's clock (interrupts and all) reach the wall clock.
+        Not while a word runs (it may be waiting in ACCEPT or KEY)."""
         pacer = getattr(self.m.board, "pacer", None)
-        if pacer is not None and hasattr(self.m, "sim"):
+        if pacer is not None and hasattr(self.m, "sim") and not self.busy:
             behind = pacer.wall() - pacer.start_wall - \
                 (self.m.clock - pacer.start_clock) / CLOCK_HZ
             if behind > 0:
