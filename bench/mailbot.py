@@ -17,7 +17,7 @@ import time
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
 import rcl  # noqa: E402
 
-EXAMPLES = pathlib.Path(rcl.__file__).parent / "screens" / "examples"
+EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
 TICK = 6667 * 54_000
 
 

@@ -12,12 +12,24 @@ from rcl.forth.machine import Forth  # noqa: E402
 __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 
 
-SCREENS = os.path.join(os.path.dirname(__file__), "screens")
+def _screens_folder():
+    """The RCL screens: rcl/screens once installed (setup.py copies the
+    top-level screens/ there), else screens/ beside the package in a
+    source checkout or an editable install."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    installed = os.path.join(here, "screens")
+    if os.path.isdir(installed):
+        return installed
+    return os.path.join(os.path.dirname(here), "screens")
+
+
+SCREENS = _screens_folder()
 
 
 def open(realtime=False, write=None, screens=True, image=None, board=None):  # noqa: A001
     """A running system: a machine wired to a simulated board with RCL
-    loaded and INSTALL run (screens=False: the board alone), with `.sim`
+    loaded and INSTALL run (screens=False: the board alone; a folder: RCL
+    from that folder's rcl.fs instead of the installed one), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
     realtime=True the virtual clock keeps pace with the wall clock.
     image="file": the system SAVE-SYSTEM wrote instead of the screens, its
@@ -30,10 +42,12 @@ def open(realtime=False, write=None, screens=True, image=None, board=None):  # n
     board = board if board is not None else SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
+    m.screens_dir = screens if isinstance(screens, str) else SCREENS
     if image is not None:
         start_image(m, image)
     elif screens:
-        m.include(os.path.join(SCREENS, "rcl.fs"))
+        m.include(os.path.join(m.screens_dir, "rcl.fs"))
+    m.documented_end = m.dictionary.here      # HELP: later words are the user's
     if realtime:
         board.pacer = Pacer(m.clock)
     return m

@@ -1,7 +1,9 @@
 """The `rcl` command line: choose a machine, load files, run words, then
 read standard input, either at an interactive prompt or as a pipe.
 
-    rcl [--bare] [--image FILE] [FILE ...] [-e WORDS] [--trace CSV] [--plot PNG]
+    rcl [FILE ...] [-e WORDS] [--bare] [--board-only] [--realtime]
+        [--start HH:MM|now] [--screens DIR] [--image FILE] [--trace CSV]
+        [--plot PNG] [--version] [--help]
 
     make_machine(args) --> load FILEs in order --> run each -e WORDS
         --> stdin is a terminal?  yes: repl.Repl (the ok prompt)
@@ -13,6 +15,7 @@ command line. Nothing here ever lets a Python traceback reach the user.
 """
 import argparse
 import contextlib
+import datetime
 import io
 import os
 import signal
@@ -20,6 +23,7 @@ import sys
 
 import rcl
 from rcl import repl
+from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")
@@ -103,8 +107,9 @@ class LineFeed:
 
 # ----------------------------------------------------------------- machine
 def make_machine(args, write):
-    """The machine the command line drives: the simulated board (rcl.open)
-    unless --bare asks for plain Forth; from a saved system with --image."""
+    """The machine the command line drives: the simulated board with RCL
+    (rcl.open), the board alone (--board-only), or plain Forth (--bare);
+    from a saved system with --image; its time of day from --start."""
     from rcl.forth.image import ImageError, load
     try:
         if args.bare:
@@ -112,14 +117,57 @@ def make_machine(args, write):
             if args.image:
                 load(m, args.image)
             return m
-        return rcl.open(write=write, realtime=args.realtime, image=args.image)
+        screens = False if args.board_only else (args.screens or True)
+        m = rcl.open(write=write, realtime=args.realtime, screens=screens, image=args.image)
     except ImageError as e:
         sys.stderr.write("rcl: --image: %s\n" % e)
         raise SystemExit(2) from None
+    if args.start is not None:
+        set_time_of_day(m, args.start)
+    return m
 
 
 def describe(args):
-    return "bare machine" if args.bare else "simulated board"
+    if args.bare:
+        return "bare machine"
+    return "simulated board" + (", no RCL screens" if args.board_only else "")
+
+
+def start_time(text):
+    """--start: `HH:MM` (24-hour) or `now` -> seconds after midnight."""
+    if text.lower() == "now":
+        t = datetime.datetime.now().time()
+        return t.hour * 3600 + t.minute * 60 + t.second
+    try:
+        hh, mm = text.split(":")
+        hh, mm = int(hh), int(mm)
+    except ValueError:
+        hh = mm = -1
+    if not (0 <= hh < 24 and 0 <= mm < 60):
+        raise argparse.ArgumentTypeError("%r is not HH:MM (24-hour) or now" % text)
+    return hh * 3600 + mm * 60
+
+
+def set_time_of_day(m, seconds):
+    """The BIOS time of day, in ticks of the rate it counts at now."""
+    board = m.sim.board
+    per_day = board.low_fetch32(PER_DAY_ADDR)
+    board.low_store32(TICKS_ADDR, seconds * per_day // 86400)
+
+
+def screens_dir(text):
+    if not os.path.isfile(os.path.join(text, "rcl.fs")):
+        raise argparse.ArgumentTypeError("%s holds no rcl.fs (RCL's load screen)" % text)
+    return text
+
+
+def find_file(path, m):
+    """A FILE of the command line: where named, else in the screens folder
+    (`rcl examples/listing1.fs` from any directory)."""
+    if os.path.exists(path) or os.path.isabs(path):
+        return path
+    there = os.path.join(getattr(m, "screens_dir", None) or rcl.SCREENS, path)
+    return there if os.path.isfile(there) else path
 
 
 # --------------------------------------------------------------- arguments
@@ -127,14 +175,25 @@ def parse_args(argv):
     p = argparse.ArgumentParser(
         prog="rcl", description="RCL, an F83-style Forth for the 1986 R-E Robot.",
         epilog="Files load first, in order, then each -e, then standard input: "
-               "a prompt on a terminal, else plain Forth source (no prompts).")
-    p.add_argument("files", nargs="*", metavar="FILE", help="Forth source to load")
+               "a prompt on a terminal, else plain Forth source (no prompts). "
+               "At the prompt, HELP shows how to start.")
+    p.add_argument("files", nargs="*", metavar="FILE",
+                   help="Forth source to load; also looked for in RCL's screens "
+                        "folder (examples/listing1.fs is the article's square)")
     p.add_argument("-e", dest="words", action="append", default=[], metavar="WORDS",
                    help="Forth words to run after the files (may repeat)")
     p.add_argument("--bare", action="store_true",
                    help="a bare F83 machine, no board and no RCL screens")
+    p.add_argument("--board-only", action="store_true",
+                   help="the simulated board without RCL's screens (build RCL "
+                        "layer by layer; INCLUDE rcl.fs loads them all)")
     p.add_argument("--realtime", action="store_true",
-                   help="the simulated robot keeps pace with the wall clock")
+                   help="the simulated robot keeps pace with the wall clock, "
+                        "also while the prompt waits")
+    p.add_argument("--start", type=start_time, metavar="HH:MM|now",
+                   help="the time of day to start at (24-hour), or the host's")
+    p.add_argument("--screens", type=screens_dir, metavar="DIR",
+                   help="load RCL from DIR/rcl.fs instead of the installed screens")
     p.add_argument("--image", metavar="FILE",
                    help="start from a system saved by SAVE-SYSTEM (not the RCL screens)")
     p.add_argument("--trace", metavar="FILE.csv",
@@ -143,7 +202,12 @@ def parse_args(argv):
                    help="draw path, wheel speeds and following error at the end "
                         "(.png .svg .pdf; needs the extra rcl[plot])")
     p.add_argument("--version", action="version", version="rcl " + version())
-    return p.parse_intermixed_args(argv)
+    args = p.parse_intermixed_args(argv)
+    if args.bare and (args.board_only or args.realtime or args.start is not None
+                      or args.screens):
+        p.error("--bare has no board: --board-only, --realtime, --start and "
+                "--screens need one")
+    return args
 
 
 # ------------------------------------------------------------------- loads
@@ -158,8 +222,7 @@ def where(e, name):
 
 def report(out, text):
     """An error of the command line, on stderr, after what stdout holds."""
-    if out.stream.isatty():
-        out.end_line()
+    out.end_line()
     out.flush()
     sys.stderr.write(text + "\n")
     sys.stderr.flush()
@@ -168,7 +231,7 @@ def report(out, text):
 def run_startup(m, args, out):
     """Load the FILEs, then run each -e. -> True, False on an error; Bye
     passes through."""
-    steps = [(m.include, path, path) for path in args.files]
+    steps = [(m.include, find_file(path, m), path) for path in args.files]
     steps += [(m.evaluate, words, "-e") for words in args.words]
     for action, arg, name in steps:
         try:
@@ -185,16 +248,24 @@ def run_startup(m, args, out):
 # -------------------------------------------------------------------- pipe
 def run_pipe(m, out, feed):
     """Interpret piped lines; every error shows as on F83's screen, and the
-    next line still runs. -> 0, or 1 if any line failed."""
-    status = 0
+    next line still runs, except the rest of a definition the error
+    abandoned (repl.OpenDefinition). -> 0, or 1 if any line failed."""
+    status, guard = 0, repl.OpenDefinition(m)
     while True:
         line = feed.line()
         if line is None:
             return status
+        if guard.skipping:
+            out.write(line + guard.skip(line) + "\n")
+            continue
+        guard.before()
         try:
             m.evaluate(line)
         except rcl.ForthError as e:
-            out.write(e.screen() + "\n")
+            out.write(repl.error_text(e) + "\n")   # from a file: file:line first
+            name = guard.failed(line)
+            if name:
+                out.write("%s is abandoned: the lines up to its ; are skipped\n" % name)
             status = 1
         except rcl.Bye:
             return status
@@ -298,8 +369,7 @@ def drive(m, args, out, interactive):
             status = run_pipe(m, out, feed)
         except rcl.Bye:
             status = 0
-        if out.stream.isatty():
-            out.end_line()
+        out.end_line()                           # the shell's prompt starts on its own line
         return status
     shell = repl.Repl(m, out)
     out.write(BANNER % (version(), describe(args)) + "\n")

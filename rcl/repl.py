@@ -21,15 +21,26 @@ prompt string, so what the user types lands after it.
 
 Lines starting with a command of the META table (`#help`, `#clock`, ...)
 are the shell's own; everything else goes to the machine.
+
+While a `:` definition is open the prompt names it (`SQ] `). An error
+inside an open definition abandons it, as F83's ABORT does; the lines up
+to its `;` (the rest of a paste, or what the user types next) are then
+skipped, not run one by one as interpreted words, and the screen says so.
+An error from a file shows its file and line, as gforth does.
+
+On a capable terminal with a simulated board, rcl.status keeps a status
+line at the bottom; while a word runs, keys typed ahead are neither echoed
+nor lost (the terminal's echo is off): the next prompt takes them.
 """
-import math
-import os
+import contextlib
 import shutil
-import sys
+import threading
 
 import rcl
-
-HISTORY = "~/.rcl_history"
+from rcl import status
+from rcl.forth.dictionary import HIDDEN
+from rcl.forth.primitives import CLOCK_HZ
+from rcl.terminal import PlainTerminal, hold_keys, make_terminal, shows_status
 
 
 # ------------------------------------------------------------ meta-commands
@@ -64,6 +75,15 @@ def meta_stack(shell, arg):
     return True
 
 
+@meta("#bell", "#bell off: beeps show on the status line without the terminal bell")
+def meta_bell(shell, arg):
+    shell.bell = arg.lower() != "off"
+    if shell.status:
+        shell.status.bell = shell.bell
+    shell.out.write("bell %s" % ("on" if shell.bell else "off"))
+    return True
+
+
 @meta("#bye", "leave rcl (as BYE or Ctrl-D)")
 def meta_bye(shell, arg):
     return False
@@ -73,38 +93,65 @@ def meta_bye(shell, arg):
 class Repl:
     """The ok prompt over machine `m`, drawing on `out` (cli.Output)."""
 
-    def __init__(self, m, out, term=None):
+    def __init__(self, m, out, term=None, bell=True):
         self.m, self.out = m, out
-        self.term = term or make_terminal(out)
+        self.bell = bell
+        self.status = None
+        if term is None and hasattr(m, "sim") and shows_status(out):
+            lock = threading.RLock()
+            out.stream = status.LockedStream(out.stream, lock)
+            self.status = status.StatusLine(m, out.stream, lock, bell, self.catch_up)
+        self.term = term or make_terminal(out, m, self.status)
         self.pending = []             # further lines of a multi-line paste
+        self.guard = OpenDefinition(m)
+        self.busy = False             # a word is running
         m.read_line = self.accept_line
         m.read_key = self.read_key
+        m.columns = shutil.get_terminal_size().columns
+        self.give_back_keys = hold_keys(self.term)
 
     def run(self):
         """Read, interpret, show; until Ctrl-D, BYE or #bye."""
+        if self.status:
+            self.status.start()
+        try:
+            self.loop()
+        finally:
+            if self.status:
+                self.status.stop()
+            self.give_back_keys()
+        self.out.end_line()
+
+    def loop(self):
         while True:
             try:
                 if not self.onecmd(self.next_line(self.begin_line())):
                     break
             except KeyboardInterrupt:            # Ctrl-C at the prompt: clear the line
                 self.pending.clear()
+                self.guard.skipping = None
             except EOFError:
                 break
-        self.out.end_line()
 
     def onecmd(self, line):
         """Run one line and show how it ended. -> False to leave. Nothing
         raised here may leave the loop."""
         name, arg = (line.split(None, 1) + ["", ""])[:2]
         command = META.get(name.lower())
+        if command:
+            return command[0](self, arg.strip())
+        if self.guard.skipping:
+            return self.skip(line)
+        self.guard.before()
         try:
-            if command:
-                return command[0](self, arg.strip())
-            self.m.evaluate(line)
+            self.catch_up()
+            with self.running():
+                self.m.evaluate(line)
             if not self.m.compiling:
                 self.out.write(" ok")
         except rcl.ForthError as e:
-            self.out.write(e.screen())
+            self.out.write(error_text(e))
+            self.abandoned(line)
         except rcl.Bye:
             return False
         except KeyboardInterrupt:
@@ -115,6 +162,42 @@ class Repl:
             self.out.write(" Internal error: %s: %s " % (type(e).__name__, e))
         return True
 
+    @contextlib.contextmanager
+    def running(self):
+        """While a word runs: the status line kept fresh."""
+        self.busy = True
+        if self.status:
+            self.status.resume()
+        try:
+            yield
+        finally:
+            self.busy = False
+            if self.status:
+                self.status.pause()
+
+    def catch_up(self):
+        """In real time the board's clock runs while the prompt waits: let
+        the idle machine's clock (interrupts and all) reach the wall clock.
+        Not while a word runs (it may be waiting in ACCEPT or KEY)."""
+        pacer = getattr(self.m.board, "pacer", None)
+        if pacer is not None and hasattr(self.m, "sim") and not self.busy:
+            behind = pacer.wall() - pacer.start_wall - \
+                (self.m.clock - pacer.start_clock) / CLOCK_HZ
+            if behind > 0:
+                self.m.sim.run(behind)
+
+    # ------------------------------------------------- open definitions
+    def abandoned(self, line):
+        """After an error: was a definition open? Then skip its other lines."""
+        name = self.guard.failed(line)
+        if name:
+            self.out.write("\n%s is abandoned: the lines up to its ; are skipped, "
+                           "not run (Ctrl-C stops skipping)" % name)
+
+    def skip(self, line):
+        self.out.write(self.guard.skip(line))
+        return True
+
     def abort(self):
         try:
             self.m.abort()
@@ -123,8 +206,13 @@ class Repl:
 
     # --------------------------------------------------------- screen lines
     def begin_line(self):
-        """F83's CR before each read; -> '' (the new line holds nothing)."""
+        """F83's CR before each read; -> what the new line shows first: ''
+        or, while a definition is open or skipped, a continuation prompt."""
         self.out.end_line()
+        if self.guard.skipping:
+            return "(skipping %s) " % self.guard.skipping
+        if self.m.compiling:
+            return "%s] " % self.guard.name()
         return ""
 
     def visible_tail(self):
@@ -171,131 +259,79 @@ class Repl:
         """ACCEPT/QUERY at the prompt: a line typed after what is shown;
         None at Ctrl-D. Ctrl-C propagates: the machine aborts."""
         try:
-            return self.next_line(self.visible_tail())
+            with self.status_held():
+                return self.next_line(self.visible_tail())
         except EOFError:
             return None
 
     def read_key(self):
         self.out.flush()
-        return self.term.read_key()
+        with self.status_held():
+            return self.term.read_key()
 
-
-# ---------------------------------------------------------------- terminals
-# Terminal handling, in one place. A terminal has read(shown) -> str
-# (EOFError at Ctrl-D, KeyboardInterrupt at Ctrl-C, leaving `shown` on the
-# row), read_key() -> key code, and `rewinds`: True when, after read(), the
-# cursor is back at the start of the row so the shell re-types the line.
-
-def is_dumb():
-    return os.environ.get("TERM", "").lower() in ("dumb", "unknown")
-
-
-def make_terminal(out):
-    """prompt_toolkit when both ends are terminals, else plain input()."""
-    if sys.stdin.isatty() and out.stream.isatty():
+    @contextlib.contextmanager
+    def status_held(self):
+        """A word reads the keyboard: the prompt draws the status line
+        meanwhile, not the thread (they must not write at once)."""
+        held = self.status is not None and self.status.running is not None
+        if held:
+            self.status.pause()
         try:
-            return PromptTerminal(out)
-        except Exception:
-            pass
-    return PlainTerminal(out)
+            yield
+        finally:
+            if held:
+                self.status.resume()
 
 
-def read_tty_key():
-    """One key from the terminal, unechoed and unbuffered (cbreak: Ctrl-C
-    still interrupts). Enter reads as 13, as on F83's keyboard."""
-    try:
-        import termios
-        import tty
-        fd = sys.stdin.fileno()
-        saved = termios.tcgetattr(fd)
-    except Exception:                             # not a POSIX terminal
-        c = sys.stdin.read(1)
-        if not c:
-            raise rcl.ForthError(-39, "No input")
-        return 13 if c == "\n" else ord(c)
-    try:
-        tty.setcbreak(fd, termios.TCSANOW)      # keep keys typed ahead
-        c = os.read(fd, 1)
-    finally:
-        termios.tcsetattr(fd, termios.TCSADRAIN, saved)
-    if not c:
-        raise rcl.ForthError(-39, "No input")
-    return 13 if c == b"\n" else c[0]
+def error_text(e):
+    """F83's text for an error; from a file, `file:line:` first (gforth)."""
+    if e.file:
+        return " %s:%s: %s " % (e.file, e.line, e.display())
+    return e.screen()
 
 
-class PromptTerminal:
-    """prompt_toolkit: line editing, history in ~/.rcl_history. Started at
-    column 0 it draws `shown` and the typed line, and erases it all when
-    done (so it rewinds), except on a dumb terminal, where it only echoes
-    and moves on."""
-
-    def __init__(self, out):
-        from prompt_toolkit import PromptSession
-        self.out = out
-        self.rewinds = not is_dumb()
-        self.session = PromptSession(history=quiet_history(),
-                                     erase_when_done=True)
-
-    def read(self, shown):
-        if not self.rewinds:
-            return self.session.prompt("")
-        # It draws from where the cursor is but counts columns from 0.
-        self.out.redraw("\r")
-        try:
-            return self.session.prompt(shown)
-        except (KeyboardInterrupt, EOFError):
-            self.out.redraw(shown)               # it erased the row: put it back
-            raise
-
-    def read_key(self):
-        return read_tty_key()
+def ends_definition(line):
+    return ";" in line.split()
 
 
-def quiet_history():
-    """FileHistory that never fails: a history it cannot read or write is
-    simply not kept."""
-    from prompt_toolkit.history import FileHistory
+class OpenDefinition:
+    """Keeps an error inside an open `:` definition from turning the rest
+    of it into commands. F83's ABORT abandons the definition; its further
+    lines (a paste, a pipe, what the user types next) would then run one by
+    one, interpreted: `FORWARD` would start the motors. So after such an
+    error the lines up to one holding `;` are skipped.
 
-    class QuietFileHistory(FileHistory):
-        def load_history_strings(self):
-            try:
-                return list(super().load_history_strings())
-            except Exception:
-                return []
+        before()        before each line runs
+        failed(line)    after it failed: the abandoned definition's name, or ''
+        skipping        that name while lines are being skipped
+        skip(line)      what to show for a skipped line
+    """
 
-        def store_string(self, string):
-            try:
-                super().store_string(string)
-            except Exception:
-                pass
+    def __init__(self, m):
+        self.m = m
+        self.skipping = None
+        self.last, self.was_open = None, False
 
-    return QuietFileHistory(os.path.expanduser(HISTORY))
+    def name(self):
+        """The name of the definition being compiled, '' if it has none."""
+        d = self.m.dictionary
+        if d.last and d.flags(d.last) & HIDDEN:
+            return d.name_of((d.last + 2) & 0xFFFF) or ""
+        return ""
 
+    def before(self):
+        self.last, self.was_open = self.m.dictionary.last, self.m.compiling
 
-class PlainTerminal:
-    """input() on the terminal's own line editing (backspace, Ctrl-U: what
-    F83 offers). Its echo always ends with a new line; on a capable screen
-    the cursor is moved back up (ANSI `ESC [ n A`) so the shell re-types
-    the line the F83 way. Not readline: it leaves out that new line after
-    an empty line, so the rows to go back could not be known."""
+    def failed(self, line):
+        d = self.m.dictionary
+        opened = d.last != self.last and d.last and d.flags(d.last) & HIDDEN
+        if not (self.was_open or opened) or ends_definition(line):
+            return ""
+        self.skipping = self.name() or "the definition"
+        return self.skipping
 
-    def __init__(self, out):
-        self.out = out
-        self.rewinds = out.stream.isatty() and not is_dumb()
-
-    def read(self, shown):
-        if not self.rewinds:
-            return input()
-        self.out.redraw("\r")                    # input() re-types `shown`
-        try:
-            line = input(shown)
-        except KeyboardInterrupt:
-            self.out.redraw("\r\x1b[K" + shown)
-            raise
-        width = max(shutil.get_terminal_size().columns, 1)
-        rows = max(1, math.ceil((len(shown) + len(line)) / width))
-        self.out.redraw("\x1b[%dA\r" % rows)
-        return line
-
-    def read_key(self):
-        return read_tty_key()
+    def skip(self, line):
+        if ends_definition(line):
+            self.skipping = None
+            return " skipped, the definition is over"
+        return " skipped"

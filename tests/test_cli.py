@@ -30,13 +30,13 @@ def source(tmp_path):
     return write
 
 
-def test_piped_line_prints_only_what_the_program_prints():
+def test_piped_line_prints_only_what_the_program_prints_and_a_final_newline():
     done = rcl(stdin="2 3 + .\n")
-    assert (done.stdout, done.returncode) == ("5 ", 0)
+    assert (done.stdout, done.returncode) == ("5 \n", 0)
 
 
 def test_piped_input_without_final_newline_still_runs():
-    assert rcl(stdin="2 3 + .").stdout == "5 "
+    assert rcl(stdin="2 3 + .").stdout == "5 \n"
 
 
 def test_empty_input_exits_zero_and_prints_nothing():
@@ -46,7 +46,7 @@ def test_empty_input_exits_zero_and_prints_nothing():
 
 def test_unknown_word_shows_f83_text_exits_one_and_next_line_runs():
     done = rcl(stdin="foo\n1 2 + .\n")
-    assert done.stdout == "FOO  ? \n3 "
+    assert done.stdout == "FOO  ? \n3 \n"
     assert done.returncode == 1
 
 
@@ -56,21 +56,21 @@ def test_stack_underflow_shows_f83_text_between_blanks():
 
 
 def test_error_abandons_the_rest_of_its_line_only():
-    assert rcl(stdin="1 . foo 2 .\n3 .\n").stdout == "1 FOO  ? \n3 "
+    assert rcl(stdin="1 . foo 2 .\n3 .\n").stdout == "1 FOO  ? \n3 \n"
 
 
 def test_colon_definition_spans_piped_lines():
-    assert rcl(stdin=": SQ\n DUP * ;\n7 SQ .\n").stdout == "49 "
+    assert rcl(stdin=": SQ\n DUP * ;\n7 SQ .\n").stdout == "49 \n"
 
 
 def test_bye_exits_zero_and_stops_reading():
     done = rcl(stdin="1 .\nBYE\n2 .\n")
-    assert (done.stdout, done.returncode) == ("1 ", 0)
+    assert (done.stdout, done.returncode) == ("1 \n", 0)
 
 
 def test_bye_inside_a_word_exits():
     done = rcl(stdin=": QUIT-NOW 7 . BYE ; QUIT-NOW 8 .\n9 .\n")
-    assert (done.stdout, done.returncode) == ("7 ", 0)
+    assert (done.stdout, done.returncode) == ("7 \n", 0)
 
 
 def test_bye_after_an_error_exits_one():
@@ -79,16 +79,16 @@ def test_bye_after_an_error_exits_one():
 
 def test_accept_reads_the_next_piped_line():
     done = rcl(stdin="PAD 80 ACCEPT PAD SWAP TYPE\nhello world\n1 .\n")
-    assert done.stdout == "hello world1 "
+    assert done.stdout == "hello world1 \n"
 
 
 def test_key_reads_the_next_piped_characters_enter_as_13():
-    assert rcl(stdin="KEY . KEY . KEY .\nAB\n").stdout == "65 66 13 "
+    assert rcl(stdin="KEY . KEY . KEY .\nAB\n").stdout == "65 66 13 \n"
 
 
 def test_accept_at_end_of_input_reads_an_empty_line():
     done = rcl(stdin="PAD 80 ACCEPT .\n")
-    assert (done.stdout, done.returncode) == ("0 ", 0)
+    assert done.stdout.endswith("0 \n") and done.returncode == 0    # after F83's isn't uniques
 
 
 def test_key_at_end_of_input_is_an_error_not_a_crash():
@@ -98,13 +98,13 @@ def test_key_at_end_of_input_is_an_error_not_a_crash():
 
 def test_file_loads_before_standard_input(source):
     path = source(": GREET .\" hi\" ;\n")
-    assert rcl(path, stdin="GREET\n").stdout == "hi"
+    assert rcl(path, stdin="GREET\n").stdout == "hi\n"
 
 
 def test_files_load_in_order(source):
     first = source(": A 1 . ;\n", "a.fs")
     second = source(": B A 2 . ;\n", "b.fs")
-    assert rcl(first, second, stdin="B\n").stdout == "1 2 "
+    assert rcl(first, second, stdin="B\n").stdout == "1 2 \n"
 
 
 def test_file_error_prints_file_and_line_on_stderr_and_exits_one(source):
@@ -136,16 +136,16 @@ def test_directory_as_file_is_an_error_without_traceback(tmp_path):
 def test_e_words_run_after_files_and_before_stdin(source):
     path = source(": SQ DUP * ;\n")
     done = rcl(path, "-e", "7 SQ .", stdin="1 .\n")
-    assert (done.stdout, done.returncode) == ("49 1 ", 0)
+    assert (done.stdout, done.returncode) == ("49 1 \n", 0)
 
 
 def test_e_may_be_given_more_than_once_and_runs_in_order():
-    assert rcl("-e", "1 .", "-e", "2 .").stdout == "1 2 "
+    assert rcl("-e", "1 .", "-e", "2 .").stdout == "1 2 \n"
 
 
 def test_e_may_come_before_the_files(source):
     path = source(": SQ DUP * ;\n")
-    assert rcl("-e", "3 SQ .", path).stdout == "9 "
+    assert rcl("-e", "3 SQ .", path).stdout == "9 \n"
 
 
 def test_e_error_is_reported_on_stderr_and_exits_one():
@@ -156,11 +156,11 @@ def test_e_error_is_reported_on_stderr_and_exits_one():
 
 def test_e_bye_exits_zero_without_reading_stdin():
     done = rcl("-e", "5 . BYE", stdin="6 .\n")
-    assert (done.stdout, done.returncode) == ("5 ", 0)
+    assert (done.stdout, done.returncode) == ("5 \n", 0)
 
 
 def test_bare_is_accepted():
-    assert rcl("--bare", stdin="2 3 * .\n").stdout == "6 "
+    assert rcl("--bare", stdin="2 3 * .\n").stdout == "6 \n"
 
 
 def test_version_names_rcl():
@@ -180,4 +180,106 @@ def test_undecodable_input_bytes_do_not_crash():
     done = subprocess.run([sys.executable, "-m", "rcl"], input=b"\xff\xfe 1 .\n2 .\n",
                           capture_output=True, timeout=60, env=env)
     assert b"Traceback" not in done.stdout + done.stderr
-    assert done.stdout.endswith(b"2 ")
+    assert done.stdout.endswith(b"2 \n")
+
+
+# ------------------------------------------------ options and start-up
+def test_start_sets_the_time_of_day_24_hour():
+    assert rcl("--start", "13:45", "-e", ".TIME").stdout == "13:45:00 \n"
+
+
+def test_start_now_takes_the_hosts_clock():
+    import datetime
+    before = datetime.datetime.now()
+    shown = rcl("--start", "now", "-e", ".TIME").stdout.strip()
+    h, m, _ = (int(x) for x in shown.split(":"))
+    # the host clock read before and at start-up: same minute, or the next one
+    starts = {(before.hour, before.minute),
+              ((before + datetime.timedelta(minutes=1)).hour,
+               (before + datetime.timedelta(minutes=1)).minute)}
+    assert (h, m) in starts
+
+
+def test_start_rejects_a_12_hour_or_malformed_time():
+    for bad in ("25:00", "8 AM", "12:60", "noon"):
+        done = rcl("--start", bad)
+        assert done.returncode == 2
+        assert "HH:MM (24-hour) or now" in done.stderr
+
+
+def test_set_clock_sets_a_24_hour_time_at_the_prompt():
+    assert rcl(stdin="17 5 SET-CLOCK .TIME\n").stdout == "17:05:00 \n"
+
+
+def test_set_clock_refuses_a_time_past_23_59():
+    assert rcl(stdin="24 0 SET-CLOCK\n").stdout == " Bad time \n"
+
+
+def test_board_only_has_the_board_without_rcl():
+    # the BIOS's ticks-a-day count (0:04F0 = 1,573,040: low cell 176) is there
+    done = rcl("--board-only", stdin="0 1264 L@ . RERB\n")
+    assert done.stdout == "176 RERB  ? \n"
+
+
+def test_board_only_can_load_rcl_layer_by_layer():
+    layers = "".join("INCLUDE %s\n" % n for n in
+                     ("10-hardware.fs", "20-interrupts.fs", "30-counters.fs"))
+    done = rcl("--board-only", stdin=layers + "INSTALL INSTALLED @ .\n")
+    assert done.stdout.endswith("-1 \n")
+
+
+def test_bare_refuses_board_options():
+    done = rcl("--bare", "--board-only")
+    assert done.returncode == 2
+    assert "--bare has no board" in done.stderr
+
+
+def test_screens_loads_rcl_from_another_folder(tmp_path):
+    import shutil
+    copy = tmp_path / "myrcl"
+    shutil.copytree(rcl_module().SCREENS, copy)
+    with open(copy / "95-status.fs", "a") as f:
+        f.write(": MINE  42 . ;\n")
+    assert rcl("--screens", str(copy), "-e", "MINE").stdout == "42 \n"
+
+
+def test_screens_without_a_load_screen_is_a_usage_error(tmp_path):
+    done = rcl("--screens", str(tmp_path))
+    assert done.returncode == 2 and "no rcl.fs" in done.stderr
+
+
+def test_include_finds_the_listings_from_any_directory(tmp_path):
+    done = rcl("-e", "INCLUDE examples/listing1.fs .POSE", cwd=str(tmp_path))
+    assert done.returncode == 0
+    assert done.stdout.startswith("x ")
+
+
+def test_a_file_argument_is_looked_for_in_the_screens_folder(tmp_path):
+    done = rcl("examples/listing3.fs", "-e", "DEPTH .", cwd=str(tmp_path))
+    assert done.stdout.endswith("0 \n") and done.returncode == 0    # after F83's isn't uniques
+
+
+def test_an_error_in_a_file_included_from_a_pipe_names_file_and_line(source):
+    path = source("1 2 +\nfoo\n")
+    done = rcl(stdin="INCLUDE %s\n3 .\n" % path)
+    assert done.stdout == " %s:2: FOO  ? \n3 \n" % path
+
+
+def test_e_output_ends_with_a_newline():
+    assert rcl("-e", "1 .").stdout == "1 \n"
+
+
+def rcl_module():
+    import rcl as package
+    return package
+
+
+def test_lines_after_an_error_in_an_open_definition_are_skipped_up_to_its_semicolon():
+    done = rcl(stdin=": BAD 1\nfoo\n7 .\n8 . ;\n9 .\n")
+    assert done.stdout == ("FOO  ? \nBAD is abandoned: the lines up to its ; are skipped\n"
+                           "7 . skipped\n8 . ; skipped, the definition is over\n9 \n")
+    assert done.returncode == 1
+
+
+def test_an_error_in_a_one_line_definition_skips_nothing():
+    assert rcl(stdin=": OK 1 foo 2 ;\n3 .\n").stdout == "FOO  ? \n3 \n"

@@ -8,7 +8,7 @@ import shutil
 import rcl
 import rcl.testing  # noqa: F401  (imported once here, not in every inner run)
 
-EXAMPLES = pathlib.Path(rcl.__file__).parent / "screens" / "examples"
+EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
 
 
 def run(pytester, *args):

@@ -1,4 +1,4 @@
-"""The article's listings (rcl/screens/examples/*.fs) load and run on the
+"""The article's listings (screens/examples/*.fs) load and run on the
 simulated robot as shared/reference/rcl-words.md section 7 repairs and
 reconstructs them: Listing 1's square, the arm example, BOX, the delays,
 the convenience words, TRIP and MAILBOT.
@@ -10,7 +10,7 @@ import pytest
 
 import rcl
 
-EXAMPLES = pathlib.Path(rcl.__file__).parent / "screens" / "examples"
+EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
 MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO (board-hardware.md 5.3)
 
 

@@ -7,3 +7,4 @@ from rcl.words import tracing, saving  # noqa: F401
 from rcl.words import fileaccess, heap, strings, toolsext  # noqa: F401  (new sets last:
 from rcl.words import facility, localvars  # noqa: F401   earlier numbers stay)
 from rcl.words import tester  # noqa: F401  (T{ -> }T)
+from rcl.words import help  # noqa: F401

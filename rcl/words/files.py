@@ -1,7 +1,9 @@
 """Loading text files: INCLUDE INCLUDED REQUIRE REQUIRED.
 
 A name is looked up beside the file being loaded first, then from the
-current directory. Lines may be of any length the input area holds.
+current directory, then in the RCL screens folder (so that `INCLUDE
+examples/listing1.fs` works from any directory once rcl is installed).
+Lines may be of any length the input area holds.
 """
 import os
 
@@ -18,7 +20,16 @@ def resolve(m, name):
             near = os.path.join(os.path.dirname(src.name), name)
             if os.path.exists(near):
                 return near
-    return name
+    if os.path.exists(name) or os.path.isabs(name):
+        return name
+    folder = getattr(m, "screens_dir", None) or screens_folder()
+    there = os.path.join(folder, name)
+    return there if os.path.isfile(there) else name
+
+
+def screens_folder():
+    import rcl                      # the package knows where it is installed
+    return rcl.SCREENS
 
 
 def include_file(m, name):

@@ -10,6 +10,7 @@ from rcl.forth.memory import MASK, PRIM_LIMIT, signed
 from rcl.forth.primitives import REGISTRY, prim
 from rcl.words.compiling import parse_word, tick
 from rcl.words.io import in_base
+from rcl.words.help import columns, wrap
 
 
 @prim(".S", "( -- ) show the stack, deepest first, unsigned, 7 columns each")
@@ -36,7 +37,7 @@ def dump(m):
 def words(m):
     d = m.dictionary
     names = [d.name_of((lfa + 2) & MASK) for lfa in d.lfas(d.order()[0])]
-    m.type("  ".join(n for n in names if n) + "\n")
+    m.type("\n".join(wrap([n for n in names if n], columns(m))) + "\n")
 
 
 @prim(".NAME", "( xt -- ) print the name of a word")

@@ -7,7 +7,7 @@
 \ distance, first its default. Speed and G persist until changed.
 VARIABLE DEVICE   1 DEVICE !     \ 1 the base (RERB), 2 the arm
 : RERB  ( -- )   1 DEVICE ! ;    \ "R-E Robot Base"
-: ARM  ( -- )   2 DEVICE ! ;
+: ARM  ( -- )   2 DEVICE ! ;   \ select the arm and gripper
 
 \ Commands: 0 FORWARD 1 BACKWARD 2 LEFT 3 RIGHT 4 UP 5 DOWN 6 OPEN 7 CLOSE.
 \ Each keeps its last distance: V4 (a double) and unit, 6 bytes.
@@ -95,11 +95,11 @@ CREATE ARM-MOVES
    RELAYS OFF LATCH  MOVING OFF  WHEEL1 >MOVING + OFF  WHEEL2 >MOVING + OFF
    ARM-BITS OFF  PENDING-UNIT OFF ;
 
-: FORWARD  ( -- )   0 (MOVE) ;
-: BACKWARD  ( -- )   1 (MOVE) ;
+: FORWARD  ( -- )   0 (MOVE) ;   \ drive ahead the distance (default 1 FEET)
+: BACKWARD  ( -- )   1 (MOVE) ;   \ drive back the distance (default 1 FEET)
 : LEFT  ( -- )   2 (MOVE) ;       \ spin counter-clockwise in place
 : RIGHT  ( -- )   3 (MOVE) ;      \ spin clockwise
-: UP  ( -- )   4 (ARM-MOVE) ;
-: DOWN  ( -- )   5 (ARM-MOVE) ;
+: UP  ( -- )   4 (ARM-MOVE) ;   \ raise the arm by the distance (default 1 INCHES)
+: DOWN  ( -- )   5 (ARM-MOVE) ;   \ lower the arm by the distance (default 1 INCHES)
 : OPEN  ( -- )   6 (ARM-MOVE) ;    \ relative to where the jaws are
 : CLOSE  ( -- )   7 (ARM-MOVE) ;   \ stops early on an object

@@ -1,15 +1,15 @@
 \ Layer 9, time: delays, the time of day, the beeper.
-\ Adds MS SECONDS MINUTES BEEP AM PM IDLE? ?TIME WAIT-UNTIL .TIME. Relies
-\ on TICKS@ (layer 2), the relay words and STALL? (layer 8). MS is Listing
-\ 3's calibrated loop `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word spends
-\ exactly that loop's virtual time, with every tick still serviced; like
-\ every wait it refuses to start when no tick can come.
+\ Adds MS SECONDS MINUTES BEEP AM PM IDLE? ?TIME WAIT-UNTIL .TIME SET-CLOCK.
+\ Relies on TICKS@ (layer 2), the relay words and STALL? (layer 8). MS is
+\ Listing 3's calibrated loop `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word
+\ spends exactly that loop's virtual time, with every tick still serviced;
+\ like every wait it refuses to start when no tick can come.
 CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time (after
    ?TICKING's check, at no cost); while IDLE? it counts idle ticks out.
 END-CODE
-: MS  ( milliseconds -- )   (MS) ;
-: SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;
-: MINUTES  ( minutes -- )   0 ?DO 60 SECONDS LOOP ;
+: MS  ( milliseconds -- )   (MS) ;   \ wait, Listing 3's calibrated loop
+: SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;   \ wait n times 1000 MS
+: MINUTES  ( minutes -- )   0 ?DO 60 SECONDS LOOP ;   \ wait n times 60 SECONDS
 : BEEP  ( -- )   BEEP-ON 100 MS BEEP-OFF 100 MS ;   \ two BEEPs are two sounds
 
 \ The time of day is counted in 10 ms ticks since midnight once INSTALL
@@ -18,7 +18,7 @@ END-CODE
    DUP 0 13 WITHIN 0= ABORT" Bad time"  OVER 0< ABORT" Bad time"
    >V4 36 1 M*/ ;
 : AM  ( num -- d )   FIXED  DUP 12 = IF DROP 0 THEN  HOURS ;   \ 12 AM is midnight
-: PM  ( num -- d )   FIXED  DUP 12 = >R HOURS R> 0= IF 4320000. D+ THEN ;
+: PM  ( num -- d )   FIXED  DUP 12 = >R HOURS R> 0= IF 4320000. D+ THEN ;   \ afternoon hours to ticks: 1.5 PM
 
 CODE (SKIP-TO-TICK)  ( d -- )  let the clock run to that tick at once.
 END-CODE
@@ -35,3 +35,6 @@ END-CODE
 : .TIME  ( -- )   \ hh:mm:ss
    TICKS@ 100 MU/MOD ROT DROP  60 MU/MOD ROT >R  60 MU/MOD ROT >R  DROP
    .00 [CHAR] : EMIT  R> .00 [CHAR] : EMIT  R> .00 SPACE ;
+: SET-CLOCK  ( hh mm -- )   \ set the time of day, 24-hour: 13 30 SET-CLOCK
+   DUP 0 60 WITHIN 0= ABORT" Bad time"  OVER 0 24 WITHIN 0= ABORT" Bad time"
+   SWAP 60 * +  6000 UM* TICKS! ;

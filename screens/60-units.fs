@@ -12,10 +12,10 @@ VARIABLE PENDING-UNIT    \ 0: none pending
 : (FEET)  ( fx -- )   2 DISTANCE! ;
 : (MILES)  ( fx -- )   3 DISTANCE! ;
 : (DEGREES)  ( fx -- )   4 DISTANCE! ;   \ each wheel's arc, 11/90 in a degree
-: INCHES  ( num -- )   FIXED (INCHES) ;
-: FEET  ( num -- )   FIXED (FEET) ;
-: MILES  ( num -- )   FIXED (MILES) ;
-: DEGREES  ( num -- )   FIXED (DEGREES) ;
+: INCHES  ( num -- )   FIXED (INCHES) ;   \ the distance for the next command, in inches
+: FEET  ( num -- )   FIXED (FEET) ;   \ the distance for the next command, in feet
+: MILES  ( num -- )   FIXED (MILES) ;   \ the distance for the next command, in miles
+: DEGREES  ( num -- )   FIXED (DEGREES) ;   \ the turn for the next command, in degrees
 
 \ Counts = round(V4 x num / den), board-hardware.md 7.2: INCHES 1/352,
 \ FEET 3/88, MILES 180/1, DEGREES 1/2880.
@@ -31,10 +31,10 @@ VARIABLE SPEED-UNIT   1 SPEED-UNIT !
 : (IPS)  ( fx -- )   2 SPEED! ;
 : (FPS)  ( fx -- )   3 SPEED! ;
 : (FPM)  ( fx -- )   4 SPEED! ;
-: MPH  ( num -- )   FIXED (MPH) ;
-: IPS  ( num -- )   FIXED (IPS) ;
-: FPS  ( num -- )   FIXED (FPS) ;
-: FPM  ( num -- )   FIXED (FPM) ;
+: MPH  ( num -- )   FIXED (MPH) ;   \ the base's top speed, miles an hour
+: IPS  ( num -- )   FIXED (IPS) ;   \ the base's top speed, inches a second
+: FPS  ( num -- )   FIXED (FPS) ;   \ the base's top speed, feet a second
+: FPM  ( num -- )   FIXED (FPM) ;   \ the base's top speed, feet a minute
 
 \ G: accelerations are kept as crpm per 10 ms tick, converted at once:
 \ ACCEL = max(1, round(V4 x 1449 / 11000)), so 0.1 G is 132 (BH 7.4).
@@ -43,4 +43,4 @@ VARIABLE ACCEL   132 ACCEL !
    POSITIVE ABORT" Bad acceleration"
    1449 11000 R*/  30000. 2OVER D< ABORT" Bad acceleration"
    DROP 1 MAX ACCEL ! ;
-: G  ( num -- )   FIXED (G) ;
+: G  ( num -- )   FIXED (G) ;   \ the base's acceleration, in G (default 0.1)

@@ -1,0 +1,116 @@
+"""The project's own documents: docs/words.md is generated from the screens'
+stack comments and the primitives' declarations and names every word of
+RCL's dictionary; HELP, RCL-WORDS and WORDS at the prompt; README and
+docs/ point only at files inside the repository."""
+import os
+import re
+
+import pytest
+
+import rcl
+from rcl import docgen, wordinfo
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.fixture(scope="module")
+def machine():
+    return rcl.open()
+
+
+def dictionary_names(m):
+    d = m.dictionary
+    return {d.name_of(lfa + 2) for wid in (m.forth_wid, m.root_wid)
+            for lfa in d.lfas(wid)} - {None}
+
+
+def test_every_word_of_the_rcl_dictionary_is_in_words_md(machine):
+    text = open(os.path.join(ROOT, "docs", "words.md"), encoding="utf-8").read()
+    listed = {n.replace("\\|", "|") for n in re.findall(r"^\| `(.+?)` \|", text, re.M)}
+    assert dictionary_names(machine) - listed == set()
+
+
+def test_words_md_is_what_docgen_writes_today():
+    text = open(os.path.join(ROOT, "docs", "words.md"), encoding="utf-8").read()
+    assert text == docgen.generate(), "run: python -m rcl.docgen"
+
+
+def test_a_screen_word_takes_its_stack_comment_layer_and_line_comment():
+    e = wordinfo.lookup("WAIT-UNTIL")
+    assert (e.effect, e.where) == ("( d -- )", "Layer 9, time")
+    assert e.text == "until the time of day is exactly d (maybe tomorrow)"
+
+
+def test_a_primitive_takes_its_declaration_and_word_set():
+    e = wordinfo.lookup("INCLUDE")
+    assert (e.effect, e.where, e.text) == ("( -- )", "files word set", "load the file named next")
+
+
+def test_a_later_definition_describes_the_word(machine):
+    assert wordinfo.lookup("FORWARD").where == "Layer 8, command language"
+
+
+def test_help_shows_stack_effect_layer_and_description(machine):
+    out = machine.evaluate("HELP wait-until")
+    assert out == ("\nWAIT-UNTIL  ( d -- )\n  Layer 9, time\n"
+                   "  until the time of day is exactly d (maybe tomorrow)\n")
+
+
+def test_help_alone_shows_the_first_command_and_the_listings(machine):
+    out = machine.evaluate("HELP")
+    assert "RERB 2 MPH 3.4 FEET FORWARD" in out
+    assert "INCLUDE examples/listing1.fs" in out
+
+
+def test_help_on_a_bare_machine_says_rcl_is_not_loaded():
+    assert "RCL is not loaded" in rcl.Forth().evaluate("HELP")
+
+
+def test_help_of_an_unknown_word_is_f83s_question_mark(machine):
+    with pytest.raises(rcl.ForthError) as e:
+        machine.evaluate("HELP NOSUCH")
+    assert e.value.screen() == "NOSUCH  ? "
+
+
+def test_help_of_a_users_own_word_points_to_see(machine):
+    assert "SEE SQUARE" in machine.evaluate(": SQUARE DUP * ; HELP SQUARE")
+
+
+def test_rcl_words_lists_the_command_layer(machine):
+    out = machine.evaluate("RCL-WORDS")
+    assert "Layer 8, command language:\n  RERB  ARM  FORWARD  BACKWARD" in out
+    assert "Layer 9, time:\n  MS  SECONDS  MINUTES  BEEP  AM  PM" in out
+
+
+def test_words_wraps_between_words_within_the_width(machine):
+    machine.columns = 40
+    try:
+        lines = machine.evaluate("WORDS").rstrip("\n").split("\n")
+    finally:
+        machine.columns = None
+    assert len(lines) > 10
+    assert all(len(line) <= 40 for line in lines)
+    assert not any(line.startswith(" ") or line.endswith(" ") for line in lines)
+
+
+def markdown_files():
+    docs = os.path.join(ROOT, "docs")
+    return [os.path.join(ROOT, "README.md")] + [
+        os.path.join(docs, n) for n in sorted(os.listdir(docs)) if n.endswith(".md")]
+
+
+@pytest.mark.parametrize("path", markdown_files(), ids=os.path.basename)
+def test_documents_point_only_inside_the_repository(path):
+    text = open(path, encoding="utf-8").read()
+    assert "shared/" not in text and "/work/" not in text
+    for target in re.findall(r"\]\(([^)#\s]+)", text):
+        if "://" in target:
+            continue
+        assert os.path.exists(os.path.join(os.path.dirname(path), target)), target
+
+
+def test_help_of_a_word_the_user_defined_again_says_so():
+    m = rcl.open()
+    out = m.evaluate(": FORWARD 1 ; HELP FORWARD")
+    assert "Layer 8, command language" in out
+    assert "defined again since start-up: SEE FORWARD shows this one" in out

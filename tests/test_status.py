@@ -1,0 +1,53 @@
+"""The prompt's status line text (rcl/status.py), read off a running
+system: time of day, pose, move progress, arm, jaw, stack depth, beep."""
+import pytest
+
+import rcl
+from rcl import status
+
+
+def test_status_of_a_fresh_system_shows_midnight_the_origin_and_the_arm_at_the_top():
+    m = rcl.open()
+    assert status.text(m) == ("00:00:00  x 0.0 y 0.0 in  heading 0.0  "
+                              "arm 8.00 jaw 0.00 in  stack 0")
+
+
+def test_status_follows_the_time_of_day_and_the_stack_depth():
+    m = rcl.open()
+    m.evaluate("9 41 SET-CLOCK 1 2 3")
+    assert status.text(m).startswith("09:41:00")
+    assert status.text(m).endswith("stack 3")
+
+
+def test_status_shows_a_base_move_as_commanded_progress_over_its_length():
+    m = rcl.open()
+    # 500 counts commanded (Q-AT) of a 1000-count move
+    m.evaluate("MOVING ON  500. Q-AT 2!  1000. END-AT 2!")
+    assert "  moving 50%  " in status.text(m)
+    m.evaluate("MOVING OFF")
+    assert "moving" not in status.text(m)
+
+
+def test_status_shows_where_the_simulated_robot_is_after_the_articles_first_command():
+    m = rcl.open()
+    m.evaluate("RERB 2 MPH 3.4 FEET FORWARD")     # 40.8 in, the robot's own pose
+    x, y, heading = m.sim.pose
+    assert abs(x - 40.8) < 0.2
+    assert "x %.1f y 0.0 in  heading 0.0" % x in status.text(m)
+
+
+def test_status_shows_a_beep_while_the_beeper_sounds():
+    m = rcl.open()
+    m.evaluate("BEEP-ON 10 MS")
+    assert status.text(m).endswith("  BEEP")
+    m.evaluate("BEEP-OFF 10 MS")
+    assert "BEEP" not in status.text(m)
+
+
+def test_status_shows_an_arm_move_and_the_heights_after_it():
+    m = rcl.open()
+    m.evaluate("ARM-BITS ON")
+    assert "arm moving" in status.text(m)
+    m.evaluate("ARM-BITS OFF ARM 3.1 INCHES DOWN")
+    assert m.sim.arm == pytest.approx(4.9, abs=0.02)           # 8.0 - 3.1 (reference 7.1)
+    assert "arm %.2f jaw 0.00 in" % m.sim.arm in status.text(m)
