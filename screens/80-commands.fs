@@ -89,7 +89,7 @@ CREATE ARM-MOVES
    DUP 2+ @ ARM-LIMIT !  SWAP ARM-BUDGET !  @ DUP ENABLE ARM-BITS !
    WAIT-ARM ;
 
-\ After any error or Ctrl-C (the kernel's ON-ABORT): every relay open,
+\ After any error or Ctrl-C (the kernel's SAFE-STATE): every relay open,
 \ no move under way, no distance pending.
 : (SAFE)  ( -- )
    RELAYS OFF LATCH  MOVING OFF  WHEEL1 >MOVING + OFF  WHEEL2 >MOVING + OFF

@@ -14,7 +14,7 @@ INCLUDE 75-control.fs
 INCLUDE 80-commands.fs
 INCLUDE 90-time.fs
 INCLUDE 95-status.fs
-' (SAFE) IS ON-ABORT
+' (SAFE) SAFE-STATE !   \ run after every error, before the user's ON-ABORT
 WARNING ON
 DECIMAL INSTALL
 HERE FENCE !     \ EMPTY forgets the user's words only; FORGET stops here

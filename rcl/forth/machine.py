@@ -124,6 +124,7 @@ class Forth(Inner, Outer):
         mem.store(self.a_warning, MASK)
         mem.store(self.a_fence, d.here)
         self.xt_of["ON-ABORT"] = d.find("ON-ABORT")[0]
+        self.xt_of["SAFE-STATE"] = d.find("SAFE-STATE")[0]
         self.invalidate()
         self.clock = 0                     # power-on: a copied image starts at 0 too
         self.reschedule()

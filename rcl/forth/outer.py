@@ -268,16 +268,24 @@ class Outer:
         self.safe_state()
 
     def safe_state(self):
-        """After any error or Ctrl-C: the board's motors off, then the kernel's
-        DEFER ON-ABORT (RCL sets it to clear its relay shadow and move state),
-        then the motors off again, whatever the hook did. The hook gets a
-        second of virtual time; a broken hook must not hide the error."""
+        """After any error or Ctrl-C: the board's motors off, then the word
+        in the kernel's SAFE-STATE (RCL's: clear its relay shadow and move
+        state), then the kernel's DEFER ON-ABORT (the user's hook), then the
+        motors off again, whatever the hooks did."""
         self.board.stop_motors()
         self.break_pending = bool(self.leave_signal)   # Ctrl-C is answered; a quit is not
+        system = self.memory.fetch((self.xt_of["SAFE-STATE"] + 2) & MASK)
+        for xt in ([system] if system else []) + [self.xt_of["ON-ABORT"]]:
+            self.run_hook(xt)
+        self.board.stop_motors()
+
+    def run_hook(self, xt):
+        """Run an abort hook with a second of virtual time; a broken hook
+        must not hide the error being reported."""
         limit = self.clock_limit
         self.clock_limit = min(limit, self.clock + ON_ABORT_LIMIT)
         try:
-            self.execute(self.xt_of["ON-ABORT"])
+            self.execute(xt)
         except Exception:
             pass
         finally:
@@ -286,7 +294,6 @@ class Outer:
             del self.s[:]
             del self.rs[:]
             self.reschedule()
-            self.board.stop_motors()
 
     def shutdown(self):
         """Leaving (BYE, end of input, a signal): the robot in its safe state."""

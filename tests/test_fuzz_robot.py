@@ -1,0 +1,26 @@
+"""The whole system under random and hostile lines (tests/robot_fuzz.py):
+10,000 of them, the same every run. After each: no Python exception, no
+internal error, every relay off (no line overran its budget with a motor
+on: the budget's abort stops them), and a canary word still works."""
+import os
+
+import pytest
+
+import robot_fuzz
+
+
+@pytest.fixture(autouse=True)
+def in_a_scratch_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+
+
+def test_ten_thousand_random_lines_never_leave_a_motor_on_or_break_rcl():
+    m = robot_fuzz.machine()
+    words = robot_fuzz.dictionary_words(m)
+    outcomes = {}
+    for text in robot_fuzz.lines(10_000, seed=1, words=words):
+        outcome = robot_fuzz.run_line(m, text)
+        outcomes[outcome] = outcomes.get(outcome, 0) + 1
+    assert sum(outcomes.values()) == 10_000
+    assert outcomes["ok"] > 1000                        # it did more than refuse
+    assert not os.listdir(".")                          # and wrote no file
