@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 import rcl
 from rcl.forth.memory import MASK
+from robot_fuzz import HOST_FILES, reset_user_state
 
 # Words whose purpose is to write memory at an address from the stack, or to
 # run an xt from the stack. With random numbers they overwrite the
@@ -20,13 +21,6 @@ from rcl.forth.memory import MASK
 STORES = {"!", "C!", "2!", "+!", "ON", "OFF", "FILL", "ERASE", "BLANK", "CMOVE",
           "CMOVE>", "MOVE", "DEFER!", "EXECUTE", "CATCH", "COMPILE,", "UPPER", "ACCEPT",
           "EXPECT", "HIDE", "REVEAL", "BYE", "SUBSTITUTE", "UNESCAPE", "TRAVERSE-WORDLIST"}
-# Words that make, change or remove files on the host, under names taken from
-# random memory: not for a fuzz run in somebody's working tree (USING too: a
-# block file it opened would take random UPDATE FLUSH).
-HOST_FILES = {"SAVE-SYSTEM", "SAVE-TRACE", "PLOT", "CREATE-FILE", "DELETE-FILE",
-              "RENAME-FILE", "WRITE-FILE", "WRITE-LINE", "RESIZE-FILE", "OPEN-FILE",
-              "USING", "FLUSH", "SAVE-BUFFERS", "UPDATE", "INCLUDED", "INCLUDE-FILE",
-              "REQUIRED", "INCLUDE", "REQUIRE", "CREATE-BLOCKS", "MORE"}
 CONTROL = [":", ";", "IF", "ELSE", "THEN", "BEGIN", "UNTIL", "WHILE", "REPEAT",
            "AGAIN", "DO", "?DO", "LOOP", "+LOOP", "LEAVE", "CASE", "OF", "ENDOF",
            "ENDCASE", "DOES>", "[", "]", "(", ")", '."', '"', 'S"', "\\", "RECURSE"]
@@ -61,15 +55,6 @@ def in_a_scratch_folder(tmp_path_factory):
     os.chdir(tmp_path_factory.mktemp("fuzz"))
     yield
     os.chdir(cwd)
-
-
-def reset_user_state(m):
-    """What a user would put back by hand: decimal, the usual search order,
-    interpreting (an abandoned definition is left as F83 leaves it)."""
-    m.abort()
-    m.memory.store(m.a_base, 10)
-    m.dictionary.set_order([m.forth_wid, m.root_wid])
-    m.memory.store(m.a_current, m.forth_wid)
 
 
 def survives(m, text):

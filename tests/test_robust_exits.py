@@ -184,3 +184,27 @@ def test_standard_output_full_is_said_on_stderr():
                               stdout=full, stderr=subprocess.PIPE, text=True, timeout=60)
     assert done.returncode == 1
     assert done.stderr == "rcl: cannot write standard output: No space left on device\n"
+
+
+def test_a_saved_system_keeps_rcl_below_the_fence(tmp_path):
+    image = tmp_path / "robot.img"
+    m = rcl.open()
+    m.evaluate(": MINE  1 ;  SAVE-SYSTEM " + str(image))
+    m = rcl.open(image=str(image))
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("FORGET (CONTROL)")
+    assert e.value.message == "Below fence"
+    assert m.evaluate("MINE .") == "1 "                    # the user's word is above it
+    m.evaluate("EMPTY  RERB 1 FEET FORWARD  100 MS")
+    assert m.sim.wheel_counts[0] > 330
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root reads any file")
+def test_an_unreadable_file_says_permission_denied(tmp_path):
+    source = tmp_path / "secret.fs"
+    source.write_text("1 .\n")
+    source.chmod(0)
+    m = rcl.Forth()
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("INCLUDE " + str(source))
+    assert e.value.message == "Permission denied"
