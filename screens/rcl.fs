@@ -18,3 +18,5 @@ INCLUDE 95-status.fs
 WARNING ON
 DECIMAL INSTALL
 HERE FENCE !     \ EMPTY forgets the user's words only; FORGET stops here
+HALT             \ start just after a tick: what the user runs next does not
+                 \ depend on how long these screens took to load
