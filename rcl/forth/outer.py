@@ -268,6 +268,7 @@ class Outer:
         second of virtual time; a broken hook must not hide the error."""
         self.board.stop_motors()
         self.break_pending = bool(self.leave_signal)   # Ctrl-C is answered; a quit is not
+        self.stop_error = None
         limit = self.clock_limit
         self.clock_limit = min(limit, self.clock + ON_ABORT_LIMIT)
         try:

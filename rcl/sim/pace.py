@@ -6,7 +6,7 @@ with it, and records how late each tick was (wall time past its moment).
 """
 import time
 
-from rcl.forth.primitives import CLOCK_HZ
+from rcl.board import CLOCK_HZ
 
 
 class Pacer:
