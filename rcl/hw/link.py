@@ -1,0 +1,415 @@
+"""LinkBoard: the host's rcl.board.Board for a board at the other end of a
+serial link (any pyserial URL or device), speaking the frame protocol of
+docs/protocol.md.
+
+    Forth machine --- out8/in8/... ---> LinkBoard --- request ---> port
+                  <-- service: TICK ---            <-- reader thread --
+                                                       (frames, NAK, PING)
+
+Requests are stop-and-wait: one sequenced frame out, resent every RETRY_MS
+until its ACK or VALUE comes. The reader thread decodes what the board
+sends, keeps board frames in order (go-back-N with NAK), sends a PING when
+nothing went out for KEEPALIVE_MS, and notices a silent board.
+
+Time: the board's ticks are the clock. `due` is the virtual time of the
+next tick (the last tick's board time plus the period); when the machine
+gets there, `service` waits for the real TICK, moves the machine's clock to
+the board's time (catch_up, never back) and runs INT 1Ch. Inside that
+handler, reads the per-tick script covers are served from the TICK's
+results, and the handler's writes go back as one TICK_DONE.
+
+A silent link (LOST_MS) or a failed port is "Link lost": the running word
+is stopped at its next primitive boundary (machine.request_stop), the board
+is told SAFE where it can still hear (its watchdog does it otherwise), and
+RECONNECT, or the next command a second later, connects again.
+"""
+import queue
+import threading
+import time
+
+import serial
+
+from rcl.board import CLOCK_HZ, FORTH_CS, Board
+from rcl.errors import ForthError
+from rcl.hw import protocol as P
+
+if "rcl.hw.urlhandler" not in serial.protocol_handler_packages:
+    serial.protocol_handler_packages.append("rcl.hw.urlhandler")
+
+US = CLOCK_HZ // 1_000_000
+PCB_BASE = 0xFF00
+BACKLOG = 5                  # ticks queued beyond this are counted, not run
+REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
+HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
+RECONNECT_AFTER = 1.0        # a lost link is tried again at most this often
+
+# What RCL's ?CNT1 and ?CNT2 do at every tick (layer 3): latch counters 1
+# and 2 of each 8253, read each low byte then high byte. The board does it
+# at the tick and sends the eight bytes with it.
+COUNTER_SCRIPT = [op for base in (0x80, 0x84) for op in (
+    (P.SCRIPT_OUT, base + 3, 0x40), (P.SCRIPT_OUT, base + 3, 0x80),
+    (P.SCRIPT_IN, base + 1, 0), (P.SCRIPT_IN, base + 1, 0),
+    (P.SCRIPT_IN, base + 2, 0), (P.SCRIPT_IN, base + 2, 0))]
+
+
+class LinkLost(P.LinkError):
+    """The board stopped answering."""
+
+
+def link_lost():
+    return ForthError(-292, "Link lost")
+
+
+class LinkBoard(Board):
+    """A board over a link; `open_port()` -> an open pyserial port."""
+
+    def __init__(self, open_port, script=COUNTER_SCRIPT):
+        self.open_port, self.script = open_port, list(script)
+        self.port = None
+        self.lock = threading.Lock()          # one writer on the port at a time
+        self.replies = queue.Queue()
+        self.events = queue.Queue()           # TICK and HEARTBEAT frames, in order
+        self.identify = queue.Queue()
+        self.reader = None
+        self.stopping = threading.Event()
+        self.lost, self.lost_at, self.why = False, 0.0, ""
+        self.ticks = self.skipped = self.retries = 0
+        self.period = 10_000 * US
+        self.board_clock = None               # virtual time of the last tick
+        self.sent_writes = []                 # (port, value): every OUT8 the board did for us
+        self.bytes_out = self.bytes_in = 0
+        self.in_tick = False
+        self.name = ""
+        self.connect()
+
+    # ------------------------------------------------------------ session
+    def connect(self):
+        """Open the port, HELLO until IDENTIFY, register the tick script."""
+        self.port = self.open_port()
+        self.stopping.clear()
+        self.seq, self.expected, self.last_nak = 1, 1, 0.0
+        self.last_rx = self.last_tx = time.monotonic()
+        for q in (self.replies, self.events, self.identify):
+            drain(q)
+        self.reader = threading.Thread(target=self.read_loop, daemon=True,
+                                       name="rcl-link-reader")
+        self.reader.start()
+        ident = self.hello()
+        if ident["version"] != P.VERSION:
+            self.close()
+            raise P.LinkError("The board speaks protocol version %d; this rcl speaks "
+                              "version %d. Update the board's firmware or rcl."
+                              % (ident["version"], P.VERSION))
+        self.name, self.period = ident["name"], ident["tick_us"] * US
+        self.lost = False
+        self.request("SNAPSHOT", ops=self.script)
+        self.board_clock = None
+        if self.machine is not None:
+            self.due = self.machine.clock      # is it ticking? service finds out
+            self.machine.reschedule()
+
+    def hello(self):
+        deadline = time.monotonic() + HELLO_WAIT
+        while time.monotonic() < deadline:
+            self.send(P.frame(0, "HELLO", version=P.VERSION))
+            try:
+                return self.identify.get(timeout=0.1)
+            except queue.Empty:
+                if self.lost and self.why.startswith("port"):
+                    break
+        self.close()
+        raise P.LinkError("No answer from a board on %s (is rcl-board or the "
+                          "firmware running, at 115200 baud?)" % self.port_name())
+
+    def port_name(self):
+        return getattr(self.port, "portstr", None) or getattr(self.port, "port", "?")
+
+    def close(self):
+        self.stopping.set()
+        if self.reader is not None and self.reader is not threading.current_thread():
+            self.reader.join(1.0)
+        try:
+            self.port.close()
+        except Exception:          # noqa: BLE001  (closing a failed port)
+            pass
+
+    def reconnect(self):
+        self.close()
+        try:
+            self.connect()
+        except (P.LinkError, serial.SerialException, OSError) as e:
+            self.lose(str(e))
+            return "Link lost: %s" % e
+        return "Link up: %s, protocol %d" % (self.name, P.VERSION)
+
+    def attach(self, machine):
+        super().attach(machine)
+        self.due = machine.clock
+        machine.reschedule()
+
+    # ------------------------------------------------------- reader thread
+    def read_loop(self):
+        reader = P.FrameReader()
+        while not self.stopping.is_set():
+            try:
+                data = self.port.read(max(1, self.port.in_waiting))
+            except (serial.SerialException, OSError, TypeError, AttributeError) as e:
+                self.lose("port: %s" % e)
+                return
+            now = time.monotonic()
+            if data:
+                self.bytes_in += len(data)
+                for f in reader.feed(data):
+                    self.dispatch(f, now)
+            if now - self.last_tx > P.KEEPALIVE_MS / 1000:
+                self.send(P.frame(0, "PING"))
+            if now - self.last_rx > P.LOST_MS / 1000 and not self.lost:
+                self.lose("no frame from the board for %d ms" % P.LOST_MS)
+
+    def dispatch(self, f, now):
+        self.last_rx = now
+        if f.name == "IDENTIFY":
+            self.expected = 1
+            self.identify.put(f.values)
+            return
+        d = P.newer(f.seq, self.expected)
+        if d > 0:                          # a frame went missing: from it again
+            if now - self.last_nak > P.RETRY_MS / 1000:
+                self.last_nak = now
+                self.send(P.frame(0, "NAK", seq=self.expected))
+            return
+        if d < 0:
+            return
+        self.expected = (self.expected + 1) & 0xFF
+        if f.name in ("TICK", "HEARTBEAT"):
+            self.events.put(f)
+        else:
+            self.replies.put(f)
+
+    def send(self, data):
+        with self.lock:
+            try:
+                self.port.write(data)
+            except (serial.SerialException, OSError, TypeError, AttributeError) as e:
+                self.lost, self.why = True, "port: %s" % e
+                return
+            self.bytes_out += len(data)
+            self.last_tx = time.monotonic()
+
+    # ----------------------------------------------------------- requests
+    def request(self, name, /, **values):
+        """One sequenced frame, resent until answered; -> the answer."""
+        if self.lost:
+            raise LinkLost(self.why)
+        seq, self.seq = self.seq, (self.seq + 1) & 0xFF
+        data = P.frame(seq, name, **values)
+        give_up = time.monotonic() + REQUEST_GIVE_UP
+        self.send(data)
+        while True:
+            try:
+                reply = self.replies.get(timeout=P.RETRY_MS / 1000)
+            except queue.Empty:
+                if self.lost or time.monotonic() > give_up:
+                    raise LinkLost(self.why or "no answer") from None
+                self.retries += 1
+                self.send(data)
+                continue
+            if reply["ack"] == seq:
+                if reply.name == "REFUSED":
+                    raise P.LinkError("The board refused %s: %s" % (name, reply["reason"]))
+                return reply
+
+    def lose(self, why):
+        """The link is gone: say so once, stop the running word."""
+        if not self.lost:
+            self.lost, self.lost_at, self.why = True, time.monotonic(), why
+            self.send(P.frame(self.seq, "SAFE"))       # if the board still hears
+            m = self.machine
+            if m is not None and (m.in_forth or m.masked):
+                m.request_stop(link_lost())
+        self.due = None
+
+    def usable(self):
+        """False while lost; a lost link is tried again at most once a second."""
+        if not self.lost:
+            return True
+        if self.in_tick or time.monotonic() - self.lost_at < RECONNECT_AFTER:
+            return False
+        self.lost_at = time.monotonic()
+        self.close()
+        try:
+            self.connect()
+        except (P.LinkError, serial.SerialException, OSError):
+            self.lost, self.lost_at = True, time.monotonic()
+            return False
+        return True
+
+    def io(self, name, /, **values):
+        """A request from a port word: on a lost link, stop the word."""
+        if not self.usable():
+            self.machine.request_stop(link_lost())
+            return None
+        try:
+            return self.request(name, **values)
+        except LinkLost as e:
+            self.lose(str(e))
+            return None
+
+    # ------------------------------------------------------------ port I/O
+    def out8(self, port, byte):
+        if self.in_tick:
+            return self.tick_out8(port, byte)
+        if self.io("OUT8", port=port, value=byte) is not None:
+            self.sent_writes.append((port, byte))
+
+    def in8(self, port):
+        if self.in_tick:
+            return self.tick_in8(port)
+        reply = self.io("IN8", port=port)
+        return 0xFF if reply is None else reply["value"] & 0xFF
+
+    def out16(self, port, word):
+        if port < PCB_BASE:
+            return super().out16(port, word)
+        self.flush_tick_writes()
+        self.io("OUT16", port=port, value=word)
+        if not self.in_tick and self.due is None and not self.lost:
+            self.due = self.machine.clock     # the timer may tick now: find out
+            self.machine.reschedule()
+
+    def in16(self, port):
+        if port < PCB_BASE:
+            return super().in16(port)
+        self.flush_tick_writes()
+        reply = self.io("IN16", port=port)
+        return 0xFFFF if reply is None else reply["value"]
+
+    def far_fetch8(self, seg, off):
+        if seg == FORTH_CS:
+            return super().far_fetch8(seg, off)
+        self.flush_tick_writes()
+        reply = self.io("FAR_FETCH", seg=seg, off=off)
+        return 0xFF if reply is None else reply["value"] & 0xFF
+
+    def far_store8(self, seg, off, byte):
+        if seg == FORTH_CS:
+            return super().far_store8(seg, off, byte)
+        self.flush_tick_writes()
+        self.io("FAR_STORE", seg=seg, off=off, value=byte)
+
+    # ----------------------------------------------------------- the tick
+    def service(self, m):
+        """The next tick (or word that the board is not ticking)."""
+        if not self.usable():
+            self.due = None
+            return
+        event = self.next_event()
+        if event is None:
+            return
+        if event.name == "HEARTBEAT":
+            m.catch_up(self.board_time(event["time_us"]))
+            self.due = None if not event["ticking"] else m.clock + self.period
+            return
+        self.run_tick(m, event)
+
+    def next_event(self):
+        """The next TICK or HEARTBEAT; a backlog beyond BACKLOG ticks (the
+        host was away, at the prompt) is counted, not run."""
+        while self.events.qsize() > BACKLOG:
+            f = self.events.get()
+            if f.name == "TICK":
+                self.skipped += 1
+                self.log_script_writes()
+        try:
+            while True:
+                try:
+                    return self.events.get(timeout=0.01)
+                except queue.Empty:
+                    if self.lost or time.monotonic() - self.last_rx > P.LOST_MS / 1000:
+                        raise LinkLost(self.why or "no tick") from None
+        except LinkLost as e:
+            self.lose(str(e))
+            return None
+
+    def board_time(self, time_us):
+        """The virtual time of a board timestamp (its µs wrap at 2**32)."""
+        if self.board_clock is None:
+            self.board_clock, self.last_us = self.machine.clock, time_us
+        self.board_clock += ((time_us - self.last_us) & 0xFFFFFFFF) * US
+        self.last_us = time_us
+        return self.board_clock
+
+    def run_tick(self, m, tick):
+        self.ticks += 1
+        m.catch_up(self.board_time(tick["time_us"]))
+        self.log_script_writes()
+        self.results = [r for (r,) in tick["results"]]
+        self.at, self.taken, self.writes = 0, 0, []
+        self.tick_number = tick["tick"]
+        self.in_tick = True
+        try:
+            if tick["seg"] == FORTH_CS:
+                m.run_handler(tick["off"])
+        finally:
+            self.flush_tick_writes()
+            self.in_tick = False
+        self.due = m.clock if not self.events.empty() else self.board_clock + self.period
+
+    def log_script_writes(self):
+        self.sent_writes.extend((port, value) for op, port, value in self.script
+                                if op == P.SCRIPT_OUT)
+
+    def tick_out8(self, port, byte):
+        if self.at < len(self.script) and self.script[self.at] == (P.SCRIPT_OUT, port, byte):
+            self.at += 1                      # the board did it at the tick
+            return
+        self.at = len(self.script)            # off the script from here on
+        self.writes.append((port, byte))
+
+    def tick_in8(self, port):
+        s = self.script
+        if self.at < len(s) and s[self.at][0] == P.SCRIPT_IN and s[self.at][1] == port:
+            self.at += 1
+            self.taken += 1
+            return self.results[self.taken - 1]
+        self.at = len(s)
+        self.flush_tick_writes()
+        reply = self.io("IN8", port=port)
+        return 0xFF if reply is None else reply["value"] & 0xFF
+
+    def flush_tick_writes(self):
+        """The handler's writes so far, in order, as TICK_DONE frames."""
+        if not self.in_tick or not self.writes:
+            return
+        writes, self.writes = self.writes, []
+        for i in range(0, len(writes), 20):
+            if self.io("TICK_DONE", tick=self.tick_number, writes=writes[i:i + 20]) is None:
+                return
+            self.sent_writes.extend(writes[i:i + 20])
+
+    # -------------------------------------------------------------- safety
+    def stop_motors(self):
+        if not self.lost:
+            try:
+                self.request("SAFE")
+            except (LinkLost, P.LinkError):
+                self.lose("no answer to SAFE")
+
+    def tick_failed(self):
+        self.in_tick = False
+        if not self.lost:
+            try:
+                self.request("TICK_FAILED")
+            except (LinkLost, P.LinkError):
+                self.lose("no answer to TICK_FAILED")
+        self.due = None
+
+    def status(self):
+        state = "lost (%s)" % self.why if self.lost else "up"
+        return "link %s: %s, %d ticks, %d skipped, %d resent" % (
+            state, self.name, self.ticks, self.skipped, self.retries)
+
+
+def drain(q):
+    while not q.empty():
+        q.get_nowait()

@@ -1,0 +1,288 @@
+"""The board side of the link: a simulated board (rcl.sim.board.SimBoard)
+paced to the wall clock and serving the frame protocol over a byte stream,
+as board firmware would (docs/protocol.md).
+
+    host frames --> FrameReader --> act (ports, memory, script, safe state)
+                                      |          --> ACK / VALUE / REFUSED
+    wall clock --> BoardClock --> SimBoard.service (timer 0) --> BIOS tick
+                                      --> INT 1Ch in the Forth segment?
+                                      --> run the script --> TICK frame
+
+BoardClock is the machine-side API of rcl/board.py for a board with no
+Forth machine beside it: its clock follows the wall clock, and "running
+the INT 1Ch handler" means sending a TICK to the host, whose Forth runs it.
+Faults for tests and demonstrations: a byte corruption rate on both
+directions, a cut of the link (silence, or for TCP a closed connection)
+at a time for a time, a stalled wheel.
+"""
+import os
+import random
+import select
+import time
+
+from rcl.board import CLOCK_HZ, FORTH_CS
+from rcl.hw import protocol as P
+from rcl.sim.board import SimBoard
+
+US = CLOCK_HZ // 1_000_000
+PCB_T0_CONTROL, PCB_TIMER_MASK = 0x56, 0x32
+
+
+class BoardMemory:
+    """The 64 KiB at segment FORTH_CS on the board: on a link it is the
+    host's (the host serves those addresses itself), here only a store."""
+
+    def __init__(self):
+        self.mem = bytearray(0x10000)
+
+    def cstore(self, a, byte):
+        self.mem[a & 0xFFFF] = byte & 0xFF
+
+
+class BoardClock:
+    """The board's own time, in CLOCK_HZ units since start, following the
+    wall clock; the machine API a SimBoard needs (rcl/board.py)."""
+
+    waiting_until = None
+    budget_end = float("inf")
+
+    def __init__(self, server, wall=time.monotonic):
+        self.server, self.wall = server, wall
+        self.start = wall()
+        self.clock = 0
+        self.memory = BoardMemory()
+        self.mem = self.memory.mem
+        self.board = None
+
+    def attach(self, board):
+        self.board = board
+
+    def now(self):
+        return int((self.wall() - self.start) * CLOCK_HZ)
+
+    def catch_up(self, t):
+        self.clock = max(self.clock, t)
+
+    def reschedule(self):
+        pass
+
+    def advance_to(self, t):
+        self.catch_up(t)
+
+    def run_handler(self, xt):
+        """INT 1Ch points into the Forth segment: the host runs it."""
+        self.server.send_tick(xt)
+
+
+class BoardServer:
+    """One simulated board behind one byte stream at a time."""
+
+    def __init__(self, corrupt=0.0, seed=1, cut_at=None, cut_for=None,
+                 version=P.VERSION, name="rcl-board (simulated R-E Robot)"):
+        self.clock = BoardClock(self)
+        self.board = SimBoard()
+        self.board.attach(self.clock)
+        self.reader = P.FrameReader()
+        self.random = random.Random(seed)
+        self.corrupt, self.cut_at, self.cut_for = corrupt, cut_at, cut_for
+        self.version, self.name = version, name
+        self.script = []
+        self.expected = 1            # the host's next sequence number
+        self.send_seq = 1
+        self.window = {}             # seq -> frame, for NAK
+        self.last_reply = None
+        self.last_valid = None       # board clock of the last good host frame
+        self.safe = True             # relays forced off by the watchdog
+        self.last_sent = 0
+        self.out = bytearray()
+        self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
+                      "watchdog": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
+                      "bytes_out": 0}
+        self.lateness = []           # seconds each tick was serviced after its time
+
+    # ----------------------------------------------------------- the loop
+    def run_until(self, now):
+        """Bring the board to board-clock `now`: each tick at its own time."""
+        b, c = self.board, self.clock
+        while b.due is not None and b.due <= now:
+            c.catch_up(b.due)
+            self.lateness.append((now - b.due) / CLOCK_HZ)
+            if now - b.due > 2 * CLOCK_HZ // 1000:
+                self.stats["late"] += 1
+            b.service(c)
+        c.catch_up(now)
+        self.watchdog(now)
+        if not self.ticking() and now - self.last_sent >= P.HEARTBEAT_MS * CLOCK_HZ // 1000:
+            self.send("HEARTBEAT", time_us=(now // US) & 0xFFFFFFFF, ticking=0)
+
+    def timeout(self):
+        """Seconds until the board next needs to run (at most 5 ms)."""
+        due = self.board.due
+        if due is None:
+            return 0.005
+        return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ))
+
+    def cut(self, now):
+        """Inside the fault option's cut of the link."""
+        if self.cut_at is None:
+            return False
+        t = now / CLOCK_HZ
+        return t >= self.cut_at and (self.cut_for is None or t < self.cut_at + self.cut_for)
+
+    def receive(self, data):
+        """Bytes from the host."""
+        now = self.clock.now()
+        self.run_until(now)
+        if self.cut(now):
+            return
+        self.stats["bytes_in"] += len(data)
+        for f in self.reader.feed(self.garble(data)):
+            self.handle(f)
+
+    def take_output(self):
+        """Bytes to send to the host now (nothing while the link is cut)."""
+        data, self.out = bytes(self.out), bytearray()
+        if self.cut(self.clock.now()):
+            return b""
+        self.stats["bytes_out"] += len(data)
+        return self.garble(data)
+
+    def garble(self, data):
+        if not self.corrupt:
+            return data
+        out = bytearray(data)
+        for i in range(len(out)):
+            if self.random.random() < self.corrupt:
+                out[i] ^= 1 << self.random.randrange(8)
+        return bytes(out)
+
+    # ------------------------------------------------------------ safety
+    def watchdog(self, now):
+        if self.last_valid is not None and not self.safe \
+                and now - self.last_valid > P.WATCHDOG_MS * CLOCK_HZ // 1000:
+            self.board.stop_motors()
+            self.safe = True
+            self.stats["watchdog"] += 1
+            self.watchdog_at = now
+
+    def ticking(self):
+        """Timer 0 interrupts, unmasked, into INT 1Ch in the Forth segment."""
+        b = self.board
+        pcb = b.pcb
+        control = pcb.read16(PCB_T0_CONTROL, b.pcb_time())
+        mask = pcb.read16(PCB_TIMER_MASK, b.pcb_time())
+        return control & 0xA000 == 0xA000 and not mask & 0x8 \
+            and b.vector(0x1C)[0] == FORTH_CS
+
+    # ----------------------------------------------------------- sending
+    def send(self, message, /, seq=None, **values):
+        if seq is None:
+            seq = self.send_seq
+            self.send_seq = (self.send_seq + 1) & 0xFF
+        data = P.frame(seq, message, **values)
+        self.window[seq] = data
+        self.window.pop((seq - 128) & 0xFF, None)
+        self.out += data
+        self.last_sent = self.clock.clock
+        return data
+
+    def send_tick(self, xt):
+        b = self.board
+        results = []
+        for op, port, value in self.script:
+            if op == P.SCRIPT_OUT:
+                b.out8(port, value)
+            else:
+                results.append((b.in8(port),))
+        self.stats["ticks_sent"] += 1
+        self.send("TICK", tick=b.ticks & 0xFFFF, time_us=(self.clock.clock // US) & 0xFFFFFFFF,
+                  seg=FORTH_CS, off=xt, results=results)
+
+    def reply(self, message, /, **values):
+        self.last_reply = self.send(message, **values)
+
+    # ---------------------------------------------------------- receiving
+    def handle(self, f):
+        self.last_valid = self.clock.clock
+        self.safe = False
+        if f.name == "HELLO":
+            self.expected, self.send_seq, self.window = 1, 1, {}
+            self.out += P.frame(0, "IDENTIFY", version=self.version,
+                                tick_us=10_000, name=self.name)
+            return
+        if f.name == "NAK":
+            self.stats["naks"] += 1
+            seq = f["seq"]
+            while seq != self.send_seq and seq in self.window:
+                self.out += self.window[seq]
+                seq = (seq + 1) & 0xFF
+            return
+        d = P.newer(f.seq, self.expected)
+        if d < 0:
+            self.stats["duplicates"] += 1
+            if d == -1 and self.last_reply is not None:
+                self.out += self.last_reply       # our answer was lost: again
+            return
+        if d > 0:
+            return                                # not ours to take: the host resends
+        self.expected = (self.expected + 1) & 0xFF
+        if f.message.sender != P.HOST:
+            self.stats["refused"] += 1
+            self.reply("REFUSED", ack=f.seq, reason="not a host message")
+            return
+        self.stats["acted"] += 1
+        self.act(f)
+
+    def act(self, f):
+        b, v = self.board, f.values
+        name = f.name
+        if name == "OUT8":
+            b.out8(v["port"], v["value"])
+        elif name == "OUT16":
+            b.out16(v["port"], v["value"])
+        elif name == "IN8":
+            return self.reply("VALUE", ack=f.seq, value=b.in8(v["port"]))
+        elif name == "IN16":
+            return self.reply("VALUE", ack=f.seq, value=b.in16(v["port"]))
+        elif name == "FAR_STORE":
+            b.far_store8(v["seg"], v["off"], v["value"])
+        elif name == "FAR_FETCH":
+            return self.reply("VALUE", ack=f.seq, value=b.far_fetch8(v["seg"], v["off"]))
+        elif name == "SNAPSHOT":
+            self.script = list(v["ops"])
+        elif name == "TICK_DONE":
+            for port, value in v["writes"]:
+                b.out8(port, value)
+        elif name == "SAFE":
+            b.stop_motors()
+        elif name == "TICK_FAILED":
+            b.tick_failed()
+        self.reply("ACK", ack=f.seq)
+
+    # ------------------------------------------------------------ serving
+    def serve_fd(self, fd, stop, on_idle=None):
+        """Serve the stream on file descriptor fd until stop() is true or
+        the peer goes away (-> "closed"); a pty's master reads EIO while
+        no one has the device open, which is waited out."""
+        while not stop():
+            r, _, _ = select.select([fd], [], [], self.timeout())
+            if r:
+                try:
+                    data = os.read(fd, 4096)
+                except OSError:                   # pty: nobody on the other end
+                    data = None
+                    time.sleep(0.005)
+                if data == b"":
+                    return "closed"
+                if data:
+                    self.receive(data)
+            self.run_until(self.clock.now())
+            if self.cut(self.clock.now()) and on_idle == "close":
+                return "cut"
+            out = self.take_output()
+            if out:
+                try:
+                    os.write(fd, out)
+                except OSError:
+                    pass
+        return "stopped"
