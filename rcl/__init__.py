@@ -15,14 +15,20 @@ __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 SCREENS = os.path.join(os.path.dirname(__file__), "screens")
 
 
-def open(realtime=False, write=None, screens=True, image=None):  # noqa: A001  (DESIGN.md's name)
+def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (DESIGN.md's name)
+         port=None, usb=None):
     """A running system: a machine wired to a simulated board with RCL
     loaded and INSTALL run (screens=False: the board alone), with `.sim`
     (rcl.sim.observe.Sim) to observe the robot and inject faults. With
     realtime=True the virtual clock keeps pace with the wall clock.
     image="file": the system SAVE-SYSTEM wrote instead of the screens, its
     interrupt handler installed again (rcl.forth.image.ImageError if the
-    file is refused)."""
+    file is refused).
+    port="URL" (any pyserial URL or device) or usb="VID:PID": RCL on a
+    board over the link instead (rcl.hw; rcl.hw.protocol.LinkError if it
+    cannot connect); `.sim` only when the board is rclsim://'s simulation."""
+    if port is not None or usb is not None:
+        return open_link(port, usb, write, screens, image)
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
@@ -48,3 +54,19 @@ def start_image(m, path):
     if hit is not None and m.memory.fetch((hit[0] + 2) & 0xFFFF) and m.dictionary.find("INSTALL"):
         m.evaluate("INSTALL")
     m.safe_state()
+
+
+def open_link(port, usb, write, screens, image):
+    """RCL on a board over a link (rcl --port / --usb)."""
+    from rcl.hw.connect import open_link as connect
+    board = connect(port=port, usb=usb)
+    m = Forth(write=write, board=board)
+    server = getattr(board.port, "server", None)
+    if server is not None:
+        from rcl.sim.observe import Sim
+        m.sim = Sim(server.board)
+    if image is not None:
+        start_image(m, image)
+    elif screens:
+        m.include(os.path.join(SCREENS, "rcl.fs"))
+    return m

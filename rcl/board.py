@@ -34,6 +34,7 @@ bus) and writes go nowhere.
 
 FORTH_CS = 0x1000      # the segment GET-CS returns: the Forth machine's 64 KiB
 CLOCK_HZ = 36_000_000_000    # virtual clock units per second (1/36 ns each)
+OUT8, IN8 = 0, 1             # the operations of port_script
 
 
 class Board:
@@ -44,6 +45,7 @@ class Board:
       out8(port, byte), in8(port) -> byte      8-bit OUT and IN (PC! PC@)
       out16(port, word), in16(port) -> word    16-bit (P! P@): two byte cycles
       far_fetch8(seg, off), far_store8(...)    the 80188's 1 MiB memory
+      port_script(ops) -> reads                several as one (nothing between)
     Interrupts
       attach(machine), due, service(machine)
       ticks                timer-0 ticks serviced so far
@@ -82,6 +84,19 @@ class Board:
 
     def in16(self, port):
         return self.in8(port) | (self.in8((port + 1) & 0xFFFF) << 8)
+
+    def port_script(self, ops):
+        """Run port operations as one, nothing else touching the ports in
+        between (as a CODE word's instructions run): ops are (OUT8, port,
+        value) and (IN8, port, 0); -> the bytes read, in order. On a link
+        it is one frame, so a tick cannot come between a latch and its read."""
+        reads = []
+        for op, port, value in ops:
+            if op == OUT8:
+                self.out8(port, value)
+            else:
+                reads.append(self.in8(port) & 0xFF)
+        return reads
 
     def far_fetch8(self, seg, off):
         """Default: the Forth segment is the machine's memory; the rest floats."""

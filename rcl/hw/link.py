@@ -38,7 +38,7 @@ if "rcl.hw.urlhandler" not in serial.protocol_handler_packages:
 
 US = CLOCK_HZ // 1_000_000
 PCB_BASE = 0xFF00
-BACKLOG = 5                  # ticks queued beyond this are counted, not run
+BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 1.0        # a lost link is tried again at most this often
@@ -87,7 +87,8 @@ class LinkBoard(Board):
         """Open the port, HELLO until IDENTIFY, register the tick script."""
         self.port = self.open_port()
         self.stopping.clear()
-        self.seq, self.expected, self.last_nak = 1, 1, 0.0
+        self.seq, self.expected, self.last_nak, self.held = 1, 1, 0.0, {}
+        self.pending = None                   # [seq, frame, name, give up, sent at]: not yet answered
         self.last_rx = self.last_tx = time.monotonic()
         for q in (self.replies, self.events, self.identify):
             drain(q)
@@ -103,7 +104,7 @@ class LinkBoard(Board):
         self.name, self.period = ident["name"], ident["tick_us"] * US
         self.lost = False
         self.request("SNAPSHOT", ops=self.script)
-        self.board_clock = None
+        self.board_clock, self.ticking, self.last_us = None, False, None
         if self.machine is not None:
             self.due = self.machine.clock      # is it ticking? service finds out
             self.machine.reschedule()
@@ -167,24 +168,27 @@ class LinkBoard(Board):
                 self.lose("no frame from the board for %d ms" % P.LOST_MS)
 
     def dispatch(self, f, now):
+        """Board frames are taken in sequence order: one that comes early is
+        held, and the missing one asked for again (NAK)."""
         self.last_rx = now
         if f.name == "IDENTIFY":
-            self.expected = 1
+            self.expected, self.held = 1, {}
             self.identify.put(f.values)
             return
         d = P.newer(f.seq, self.expected)
-        if d > 0:                          # a frame went missing: from it again
+        if d > 0:
+            self.held[f.seq] = f
             if now - self.last_nak > P.RETRY_MS / 1000:
                 self.last_nak = now
                 self.send(P.frame(0, "NAK", seq=self.expected))
             return
         if d < 0:
             return
-        self.expected = (self.expected + 1) & 0xFF
-        if f.name in ("TICK", "HEARTBEAT"):
-            self.events.put(f)
-        else:
-            self.replies.put(f)
+        while f is not None:
+            self.expected = (self.expected + 1) & 0xFF
+            (self.events if f.name in ("TICK", "HEARTBEAT") else self.replies).put(f)
+            f = self.held.pop(self.expected, None)
+        self.last_nak = 0.0
 
     def send(self, data):
         with self.lock:
@@ -199,25 +203,44 @@ class LinkBoard(Board):
     # ----------------------------------------------------------- requests
     def request(self, name, /, **values):
         """One sequenced frame, resent until answered; -> the answer."""
+        self.post(name, **values)
+        return self.settle()
+
+    def post(self, name, /, **values):
+        """Send a sequenced frame without waiting for its answer (the
+        answer to the one before is waited for first: one in flight)."""
+        self.settle()
         if self.lost:
             raise LinkLost(self.why)
         seq, self.seq = self.seq, (self.seq + 1) & 0xFF
         data = P.frame(seq, name, **values)
-        give_up = time.monotonic() + REQUEST_GIVE_UP
+        self.pending = [seq, data, name, time.monotonic() + REQUEST_GIVE_UP, time.monotonic()]
         self.send(data)
-        while True:
+
+    def settle(self, block=True):
+        """Wait for the answer to the frame in flight, resending it every
+        RETRY_MS; -> the answer (None: nothing in flight, or not yet)."""
+        while self.pending is not None:
+            seq, data, name, give_up, sent_at = self.pending
             try:
-                reply = self.replies.get(timeout=P.RETRY_MS / 1000)
+                reply = self.replies.get(timeout=P.RETRY_MS / 1000 if block else 0)
             except queue.Empty:
                 if self.lost or time.monotonic() > give_up:
+                    self.pending = None
                     raise LinkLost(self.why or "no answer") from None
-                self.retries += 1
-                self.send(data)
+                if time.monotonic() - sent_at >= P.RETRY_MS / 1000:
+                    self.retries += 1
+                    self.pending[4] = time.monotonic()
+                    self.send(data)
+                if not block:
+                    return None
                 continue
             if reply["ack"] == seq:
+                self.pending = None
                 if reply.name == "REFUSED":
                     raise P.LinkError("The board refused %s: %s" % (name, reply["reason"]))
                 return reply
+        return None
 
     def lose(self, why):
         """The link is gone: say so once, stop the running word."""
@@ -244,12 +267,16 @@ class LinkBoard(Board):
             return False
         return True
 
-    def io(self, name, /, **values):
-        """A request from a port word: on a lost link, stop the word."""
+    def io(self, name, /, wait=True, **values):
+        """A request from a port word: on a lost link, stop the word.
+        -> the answer (True when not waited for), None when lost."""
         if not self.usable():
             self.machine.request_stop(link_lost())
             return None
         try:
+            if not wait:
+                self.post(name, **values)
+                return True
             return self.request(name, **values)
         except LinkLost as e:
             self.lose(str(e))
@@ -273,7 +300,7 @@ class LinkBoard(Board):
             return super().out16(port, word)
         self.flush_tick_writes()
         self.io("OUT16", port=port, value=word)
-        if not self.in_tick and self.due is None and not self.lost:
+        if not self.in_tick and not self.lost:
             self.due = self.machine.clock     # the timer may tick now: find out
             self.machine.reschedule()
 
@@ -283,6 +310,16 @@ class LinkBoard(Board):
         self.flush_tick_writes()
         reply = self.io("IN16", port=port)
         return 0xFFFF if reply is None else reply["value"]
+
+    def port_script(self, ops):
+        if self.in_tick:
+            return super().port_script(ops)    # from the tick's results where it can
+        ops = list(ops)
+        reply = self.io("RUN", ops=ops)
+        if reply is None:
+            return [0xFF] * sum(op == P.SCRIPT_IN for op, _, _ in ops)
+        self.sent_writes.extend((port, value) for op, port, value in ops if op == P.SCRIPT_OUT)
+        return [r for (r,) in reply["results"]]
 
     def far_fetch8(self, seg, off):
         if seg == FORTH_CS:
@@ -299,22 +336,28 @@ class LinkBoard(Board):
 
     # ----------------------------------------------------------- the tick
     def service(self, m):
-        """The next tick (or word that the board is not ticking)."""
+        """The next tick. While the board says it is not ticking, this only
+        looks (every tick period of virtual time) for what has come."""
         if not self.usable():
             self.due = None
             return
-        event = self.next_event()
-        if event is None:
-            return
-        if event.name == "HEARTBEAT":
-            m.catch_up(self.board_time(event["time_us"]))
-            self.due = None if not event["ticking"] else m.clock + self.period
-            return
-        self.run_tick(m, event)
+        while True:
+            event = self.next_event(block=self.ticking)
+            if event is None:
+                if not self.lost:
+                    self.due = m.clock + self.period
+                return
+            if event.name == "TICK":
+                self.ticking = True
+                return self.run_tick(m, event)
+            if not event["ticking"]:
+                m.catch_up(self.heartbeat_time(event["time_us"]))
+            self.ticking = bool(event["ticking"])
 
-    def next_event(self):
-        """The next TICK or HEARTBEAT; a backlog beyond BACKLOG ticks (the
-        host was away, at the prompt) is counted, not run."""
+    def next_event(self, block):
+        """The next TICK or HEARTBEAT (None: none waiting, when not to
+        block); a backlog beyond BACKLOG ticks (the host was away, at the
+        prompt) is counted, not run."""
         while self.events.qsize() > BACKLOG:
             f = self.events.get()
             if f.name == "TICK":
@@ -323,35 +366,46 @@ class LinkBoard(Board):
         try:
             while True:
                 try:
-                    return self.events.get(timeout=0.01)
+                    return self.events.get(timeout=0.002)
                 except queue.Empty:
+                    self.settle(block=False)      # the last TICK_DONE, resent if lost
+                    if not block:
+                        return None
                     if self.lost or time.monotonic() - self.last_rx > P.LOST_MS / 1000:
                         raise LinkLost(self.why or "no tick") from None
         except LinkLost as e:
             self.lose(str(e))
             return None
 
-    def board_time(self, time_us):
-        """The virtual time of a board timestamp (its µs wrap at 2**32)."""
+    def board_time(self, tick):
+        """The virtual time of tick number `tick` (ticks are a period apart;
+        the number wraps at 2**16)."""
         if self.board_clock is None:
-            self.board_clock, self.last_us = self.machine.clock, time_us
-        self.board_clock += ((time_us - self.last_us) & 0xFFFFFFFF) * US
-        self.last_us = time_us
+            self.board_clock, self.last_tick = self.machine.clock, tick
+        self.board_clock += ((tick - self.last_tick) & 0xFFFF) * self.period
+        self.last_tick = tick
         return self.board_clock
+
+    def heartbeat_time(self, time_us):
+        """The virtual time of a HEARTBEAT while no tick comes."""
+        if self.last_us is None:
+            self.last_us = time_us
+        t = self.machine.clock + ((time_us - self.last_us) & 0xFFFFFFFF) * US
+        self.last_us = time_us
+        return t
 
     def run_tick(self, m, tick):
         self.ticks += 1
-        m.catch_up(self.board_time(tick["time_us"]))
+        m.catch_up(self.board_time(tick["tick"]))
         self.log_script_writes()
         self.results = [r for (r,) in tick["results"]]
         self.at, self.taken, self.writes = 0, 0, []
         self.tick_number = tick["tick"]
         self.in_tick = True
         try:
-            if tick["seg"] == FORTH_CS:
-                m.run_handler(tick["off"])
+            m.run_handler(tick["off"])
         finally:
-            self.flush_tick_writes()
+            self.flush_tick_writes(final=True)
             self.in_tick = False
         self.due = m.clock if not self.events.empty() else self.board_clock + self.period
 
@@ -377,15 +431,19 @@ class LinkBoard(Board):
         reply = self.io("IN8", port=port)
         return 0xFF if reply is None else reply["value"] & 0xFF
 
-    def flush_tick_writes(self):
-        """The handler's writes so far, in order, as TICK_DONE frames."""
-        if not self.in_tick or not self.writes:
+    def flush_tick_writes(self, final=False):
+        """The handler's writes so far, in order, as TICK_DONE frames; the
+        last one (final) also tells a lockstep board the handler ended."""
+        if not self.in_tick or not (self.writes or final):
             return
         writes, self.writes = self.writes, []
-        for i in range(0, len(writes), 20):
-            if self.io("TICK_DONE", tick=self.tick_number, writes=writes[i:i + 20]) is None:
+        for i in range(0, max(1, len(writes)), 20):
+            part = writes[i:i + 20]
+            last = final and i + 20 >= len(writes)
+            if self.io("TICK_DONE", wait=False, tick=self.tick_number, final=int(last),
+                       writes=part) is None:
                 return
-            self.sent_writes.extend(writes[i:i + 20])
+            self.sent_writes.extend(part)
 
     # -------------------------------------------------------------- safety
     def stop_motors(self):

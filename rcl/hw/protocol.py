@@ -26,7 +26,7 @@ WATCHDOG_MS = 250           # board: no valid frame from the host this long -> s
 HEARTBEAT_MS = 50           # board: a HEARTBEAT at least this often when not ticking
 KEEPALIVE_MS = 100          # host: a PING when nothing else was sent this long
 LOST_MS = 250               # host: nothing valid from the board this long -> Link lost
-RETRY_MS = 30               # host: resend a request not answered this long
+RETRY_MS = 10               # host: resend a request not answered this long
 
 # The board's safe state (docs/protocol.md "Safe states"): the MOTOR latch
 # all off (both wheels braked and disabled), and on the AUX latch the arm,
@@ -107,28 +107,33 @@ TABLE = [
             doc="fetch a byte of the board's memory (LC@); answer VALUE"),
     Message("SNAPSHOT", 0x08, HOST, "ops:*BHB",
             doc="the per-tick script: (0, port, value) OUT8, (1, port, 0) IN8; answer ACK"),
-    Message("TICK_DONE", 0x09, HOST, "tick:H writes:*HB",
-            doc="the tick handler's OUT8s, in order, as one frame; answer ACK"),
+    Message("TICK_DONE", 0x09, HOST, "tick:H final:B writes:*HB",
+            doc="the tick handler's OUT8s, in order (final: the handler ended); answer ACK"),
     Message("SAFE", 0x0A, HOST, "", doc="safe state now (motors off); answer ACK"),
     Message("TICK_FAILED", 0x0B, HOST, "",
             doc="safe state, and timer 0 stops interrupting; answer ACK"),
     Message("PING", 0x0C, HOST, "", doc="keep the watchdog fed; answer ACK"),
+    Message("RUN", 0x0E, HOST, "ops:*BHB",
+            doc="port operations as one, as SNAPSHOT's; answer RESULTS"),
     Message("NAK", 0x0D, HOST, "seq:B", False,
-            doc="board frames from seq on were not received: send them again"),
+            doc="board frame `seq` was not received: send it again"),
     Message("IDENTIFY", 0x81, BOARD, "version:B tick_us:H name:s", False,
             doc="answer to HELLO: the board's protocol version, tick period, name"),
     Message("ACK", 0x82, BOARD, "ack:B", doc="host frame `ack` was acted on"),
     Message("VALUE", 0x83, BOARD, "ack:B value:H", doc="host frame `ack` read `value`"),
-    Message("TICK", 0x84, BOARD, "tick:H time_us:I seg:H off:H results:*B",
-            doc="timer 0 ticked: BIOS counted it; INT 1Ch vector; the script's IN8 results"),
+    Message("TICK", 0x84, BOARD, "tick:H off:H results:*B",
+            doc="timer 0 ticked, the BIOS counted it, INT 1Ch is FORTH_CS:off; "
+                "the script's IN8 results"),
     Message("HEARTBEAT", 0x85, BOARD, "time_us:I ticking:B",
-            doc="sent when no tick was sent for HEARTBEAT_MS"),
+            doc="sent when nothing was sent for HEARTBEAT_MS; ticking: a TICK will come"),
+    Message("RESULTS", 0x87, BOARD, "ack:B results:*B",
+            doc="host frame `ack` (RUN) read these bytes"),
     Message("REFUSED", 0x86, BOARD, "ack:B reason:s",
             doc="host frame `ack` could not be acted on (unknown type, bad payload)"),
 ]
 BY_NAME = {m.name: m for m in TABLE}
 BY_ID = {m.id: m for m in TABLE}
-SCRIPT_OUT, SCRIPT_IN = 0, 1
+SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 
 # ---------------------------------------------------------------- frames

@@ -49,6 +49,7 @@ class BoardClock:
     def __init__(self, server, wall=time.monotonic):
         self.server, self.wall = server, wall
         self.start = wall()
+        self.held_since = None       # wall time the clock stopped (lockstep)
         self.clock = 0
         self.memory = BoardMemory()
         self.mem = self.memory.mem
@@ -58,7 +59,18 @@ class BoardClock:
         self.board = board
 
     def now(self):
-        return int((self.wall() - self.start) * CLOCK_HZ)
+        """Board time now: the wall clock's, less the time held."""
+        wall = self.held_since if self.held_since is not None else self.wall()
+        return int((wall - self.start) * CLOCK_HZ)
+
+    def hold(self):
+        """Stop board time (the host is running this tick's handler)."""
+        self.held_since = self.wall()
+
+    def release(self):
+        if self.held_since is not None:
+            self.start += self.wall() - self.held_since
+            self.held_since = None
 
     def catch_up(self, t):
         self.clock = max(self.clock, t)
@@ -78,7 +90,7 @@ class BoardServer:
     """One simulated board behind one byte stream at a time."""
 
     def __init__(self, corrupt=0.0, seed=1, cut_at=None, cut_for=None,
-                 version=P.VERSION, name="rcl-board (simulated R-E Robot)"):
+                 version=P.VERSION, name="rcl-board (simulated R-E Robot)", lockstep=True):
         self.clock = BoardClock(self)
         self.board = SimBoard()
         self.board.attach(self.clock)
@@ -93,7 +105,10 @@ class BoardServer:
         self.last_reply = None
         self.last_valid = None       # board clock of the last good host frame
         self.safe = True             # relays forced off by the watchdog
-        self.last_sent = 0
+        self.last_sent = 0.0
+        self.started = time.monotonic()
+        self.lockstep = lockstep     # board time waits for each tick's TICK_DONE
+        self.awaiting = None         # the tick whose TICK_DONE is awaited
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
                       "watchdog": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
@@ -102,38 +117,41 @@ class BoardServer:
 
     # ----------------------------------------------------------- the loop
     def run_until(self, now):
-        """Bring the board to board-clock `now`: each tick at its own time."""
+        """Bring the board to board-clock `now`: each tick at its own time
+        (in lockstep, none while the host has not finished the last)."""
         b, c = self.board, self.clock
-        while b.due is not None and b.due <= now:
+        while b.due is not None and b.due <= now and self.awaiting is None:
             c.catch_up(b.due)
-            self.lateness.append((now - b.due) / CLOCK_HZ)
-            if now - b.due > 2 * CLOCK_HZ // 1000:
-                self.stats["late"] += 1
+            late = (now - b.due) / CLOCK_HZ
+            self.lateness.append(late)
+            self.stats["late"] += late > 0.002
             b.service(c)
-        c.catch_up(now)
-        self.watchdog(now)
-        if not self.ticking() and now - self.last_sent >= P.HEARTBEAT_MS * CLOCK_HZ // 1000:
-            self.send("HEARTBEAT", time_us=(now // US) & 0xFFFFFFFF, ticking=0)
+        if self.awaiting is None:
+            c.catch_up(now)
+        wall = time.monotonic()
+        self.watchdog(wall)
+        if wall - self.last_sent >= P.HEARTBEAT_MS / 1000:
+            self.send("HEARTBEAT", time_us=(c.clock // US) & 0xFFFFFFFF,
+                      ticking=int(self.ticking()))
 
     def timeout(self):
         """Seconds until the board next needs to run (at most 5 ms)."""
         due = self.board.due
-        if due is None:
+        if due is None or self.awaiting is not None:
             return 0.005
         return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ))
 
-    def cut(self, now):
-        """Inside the fault option's cut of the link."""
+    def cut(self):
+        """Inside the fault option's cut of the link (seconds since start)."""
         if self.cut_at is None:
             return False
-        t = now / CLOCK_HZ
+        t = time.monotonic() - self.started
         return t >= self.cut_at and (self.cut_for is None or t < self.cut_at + self.cut_for)
 
     def receive(self, data):
         """Bytes from the host."""
-        now = self.clock.now()
-        self.run_until(now)
-        if self.cut(now):
+        self.run_until(self.clock.now())
+        if self.cut():
             return
         self.stats["bytes_in"] += len(data)
         for f in self.reader.feed(self.garble(data)):
@@ -142,7 +160,7 @@ class BoardServer:
     def take_output(self):
         """Bytes to send to the host now (nothing while the link is cut)."""
         data, self.out = bytes(self.out), bytearray()
-        if self.cut(self.clock.now()):
+        if self.cut():
             return b""
         self.stats["bytes_out"] += len(data)
         return self.garble(data)
@@ -157,13 +175,17 @@ class BoardServer:
         return bytes(out)
 
     # ------------------------------------------------------------ safety
-    def watchdog(self, now):
+    def watchdog(self, wall):
+        """No valid frame from the host for WATCHDOG_MS: safe state, and
+        the clock goes on without waiting for the host."""
         if self.last_valid is not None and not self.safe \
-                and now - self.last_valid > P.WATCHDOG_MS * CLOCK_HZ // 1000:
+                and wall - self.last_valid > P.WATCHDOG_MS / 1000:
             self.board.stop_motors()
             self.safe = True
             self.stats["watchdog"] += 1
-            self.watchdog_at = now
+            self.watchdog_at = self.clock.now()
+            self.awaiting = None
+            self.clock.release()
 
     def ticking(self):
         """Timer 0 interrupts, unmasked, into INT 1Ch in the Forth segment."""
@@ -183,39 +205,36 @@ class BoardServer:
         self.window[seq] = data
         self.window.pop((seq - 128) & 0xFF, None)
         self.out += data
-        self.last_sent = self.clock.clock
+        self.last_sent = time.monotonic()
         return data
 
     def send_tick(self, xt):
         b = self.board
-        results = []
-        for op, port, value in self.script:
-            if op == P.SCRIPT_OUT:
-                b.out8(port, value)
-            else:
-                results.append((b.in8(port),))
+        results = [(r,) for r in b.port_script(self.script)]
         self.stats["ticks_sent"] += 1
-        self.send("TICK", tick=b.ticks & 0xFFFF, time_us=(self.clock.clock // US) & 0xFFFFFFFF,
-                  seg=FORTH_CS, off=xt, results=results)
+        self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
+        if self.lockstep and not self.safe:
+            self.awaiting = b.ticks & 0xFFFF
+            self.clock.hold()
 
     def reply(self, message, /, **values):
         self.last_reply = self.send(message, **values)
 
     # ---------------------------------------------------------- receiving
     def handle(self, f):
-        self.last_valid = self.clock.clock
+        self.last_valid = time.monotonic()
         self.safe = False
         if f.name == "HELLO":
             self.expected, self.send_seq, self.window = 1, 1, {}
+            self.awaiting = None
+            self.clock.release()
             self.out += P.frame(0, "IDENTIFY", version=self.version,
                                 tick_us=10_000, name=self.name)
             return
         if f.name == "NAK":
             self.stats["naks"] += 1
-            seq = f["seq"]
-            while seq != self.send_seq and seq in self.window:
-                self.out += self.window[seq]
-                seq = (seq + 1) & 0xFF
+            if f["seq"] in self.window:           # that one frame again (selective repeat)
+                self.out += self.window[f["seq"]]
             return
         d = P.newer(f.seq, self.expected)
         if d < 0:
@@ -248,11 +267,17 @@ class BoardServer:
             b.far_store8(v["seg"], v["off"], v["value"])
         elif name == "FAR_FETCH":
             return self.reply("VALUE", ack=f.seq, value=b.far_fetch8(v["seg"], v["off"]))
+        elif name == "RUN":
+            results = [(r,) for r in b.port_script(v["ops"])]
+            return self.reply("RESULTS", ack=f.seq, results=results)
         elif name == "SNAPSHOT":
             self.script = list(v["ops"])
         elif name == "TICK_DONE":
             for port, value in v["writes"]:
                 b.out8(port, value)
+            if v["final"] and v["tick"] == self.awaiting:
+                self.awaiting = None
+                self.clock.release()
         elif name == "SAFE":
             b.stop_motors()
         elif name == "TICK_FAILED":
@@ -277,7 +302,7 @@ class BoardServer:
                 if data:
                     self.receive(data)
             self.run_until(self.clock.now())
-            if self.cut(self.clock.now()) and on_idle == "close":
+            if self.cut() and on_idle == "close":
                 return "cut"
             out = self.take_output()
             if out:

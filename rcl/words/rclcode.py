@@ -19,7 +19,7 @@ Layer 9's `IDLE-CELLS` is such a table of the addresses IDLE? reads:
 MOVING, ARM-BITS, CONTROL's xt and STOCK-CONTROL, laid down by the screen
 at load time (`MOVING , ARM-BITS , ...`).
 """
-from rcl.board import FORTH_CS
+from rcl.board import FORTH_CS, IN8, OUT8
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
 from rcl.forth.inner import DOCOL
@@ -54,10 +54,6 @@ def state_addr(m):
     return table(m, "CNT-STATE")
 
 
-def read_counter(board, port):
-    return board.in8(port) | (board.in8(port) << 8)
-
-
 @prim("INIT-COUNTERS", "( -- ) program both 8253s (BH 5.2), zero the totals",
       hidden=True, cost=CODE_COST)
 def init_counters(m):
@@ -73,10 +69,11 @@ def init_counters(m):
 def read_position(m, wheel):
     """Latch and read one wheel's counters, add the pulses since the last
     read to the 32-bit totals; -> forward minus reverse, as a 32-bit value."""
-    b, base, mem = m.board, BASES[wheel], m.memory
-    b.out8(base + 3, 0x40)
-    b.out8(base + 3, 0x80)
-    now = (read_counter(b, base + 1), read_counter(b, base + 2))
+    base, mem = BASES[wheel], m.memory
+    r = m.board.port_script(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),
+                             (IN8, base + 1, 0), (IN8, base + 1, 0),
+                             (IN8, base + 2, 0), (IN8, base + 2, 0)))
+    now = (r[0] | (r[1] << 8), r[2] | (r[3] << 8))
     a = state_addr(m) + 12 * wheel
     totals = []
     for i in range(2):
