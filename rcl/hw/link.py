@@ -41,7 +41,7 @@ PCB_BASE = 0xFF00
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
-RECONNECT_AFTER = 1.0        # a lost link is tried again at most this often
+RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
 
 # What RCL's ?CNT1 and ?CNT2 do at every tick (layer 3): latch counters 1
 # and 2 of each 8253, read each low byte then high byte. The board does it
@@ -83,19 +83,23 @@ class LinkBoard(Board):
         self.connect()
 
     # ------------------------------------------------------------ session
-    def connect(self):
-        """Open the port, HELLO until IDENTIFY, register the tick script."""
-        self.port = self.open_port()
-        self.stopping.clear()
+    def connect(self, reopen=True):
+        """Open the port (reopen=False: keep the one open), HELLO until
+        IDENTIFY, register the tick script."""
+        if reopen:
+            self.port = self.open_port()
         self.seq, self.expected, self.last_nak, self.held = 1, 1, 0.0, {}
         self.pending = None                   # [seq, frame, name, give up, sent at]: not yet answered
         self.last_rx = self.last_tx = time.monotonic()
         for q in (self.replies, self.events, self.identify):
             drain(q)
-        self.reader = threading.Thread(target=self.read_loop, daemon=True,
-                                       name="rcl-link-reader")
-        self.reader.start()
-        ident = self.hello()
+        self.lost, self.why = True, ""         # until IDENTIFY: the reader keeps quiet
+        if reopen or not self.reader.is_alive():
+            self.stopping.clear()
+            self.reader = threading.Thread(target=self.read_loop, daemon=True,
+                                           name="rcl-link-reader")
+            self.reader.start()
+        ident = self.hello(HELLO_WAIT if reopen else 0.5)
         if ident["version"] != P.VERSION:
             self.close()
             raise P.LinkError("The board speaks protocol version %d; this rcl speaks "
@@ -109,8 +113,8 @@ class LinkBoard(Board):
             self.due = self.machine.clock      # is it ticking? service finds out
             self.machine.reschedule()
 
-    def hello(self):
-        deadline = time.monotonic() + HELLO_WAIT
+    def hello(self, wait):
+        deadline = time.monotonic() + wait
         while time.monotonic() < deadline:
             self.send(P.frame(0, "HELLO", version=P.VERSION))
             try:
@@ -118,7 +122,6 @@ class LinkBoard(Board):
             except queue.Empty:
                 if self.lost and self.why.startswith("port"):
                     break
-        self.close()
         raise P.LinkError("No answer from a board on %s (is rcl-board or the "
                           "firmware running, at 115200 baud?)" % self.port_name())
 
@@ -135,13 +138,20 @@ class LinkBoard(Board):
             pass
 
     def reconnect(self):
-        self.close()
         try:
-            self.connect()
+            self.reopen()
         except (P.LinkError, serial.SerialException, OSError) as e:
-            self.lose(str(e))
+            self.lose(str(e), stop=False)
             return "Link lost: %s" % e
         return "Link up: %s, protocol %d" % (self.name, P.VERSION)
+
+    def reopen(self):
+        """Connect again: the same port if it still works (the board was
+        only silent), else the port opened anew (a closed connection)."""
+        failed = self.why.startswith("port") or not getattr(self.port, "is_open", False)
+        if failed:
+            self.close()
+        self.connect(reopen=failed)
 
     def attach(self, machine):
         super().attach(machine)
@@ -155,7 +165,8 @@ class LinkBoard(Board):
             try:
                 data = self.port.read(max(1, self.port.in_waiting))
             except (serial.SerialException, OSError, TypeError, AttributeError) as e:
-                self.lose("port: %s" % e)
+                self.why = "port: %s" % e
+                self.lose(self.why)
                 return
             now = time.monotonic()
             if data:
@@ -242,28 +253,31 @@ class LinkBoard(Board):
                 return reply
         return None
 
-    def lose(self, why):
+    def lose(self, why, stop=True):
         """The link is gone: say so once, stop the running word."""
         if not self.lost:
             self.lost, self.lost_at, self.why = True, time.monotonic(), why
             self.send(P.frame(self.seq, "SAFE"))       # if the board still hears
             m = self.machine
-            if m is not None and (m.in_forth or m.masked):
+            if stop and m is not None and (m.in_forth or m.masked):
                 m.request_stop(link_lost())
         self.due = None
 
     def usable(self):
-        """False while lost; a lost link is tried again at most once a second."""
+        """True when the link is up. A lost link is tried again, at most
+        every RECONNECT_AFTER seconds: the abort that follows the loss
+        (ON-ABORT's relay writes) finds it quietly unusable; a command
+        after that finds it reconnected, or is stopped with Link lost."""
         if not self.lost:
             return True
         if self.in_tick or time.monotonic() - self.lost_at < RECONNECT_AFTER:
             return False
         self.lost_at = time.monotonic()
-        self.close()
         try:
-            self.connect()
+            self.reopen()
         except (P.LinkError, serial.SerialException, OSError):
             self.lost, self.lost_at = True, time.monotonic()
+            self.machine.request_stop(link_lost())   # taken at the next primitive boundary
             return False
         return True
 
@@ -271,7 +285,6 @@ class LinkBoard(Board):
         """A request from a port word: on a lost link, stop the word.
         -> the answer (True when not waited for), None when lost."""
         if not self.usable():
-            self.machine.request_stop(link_lost())
             return None
         try:
             if not wait:

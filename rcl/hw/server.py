@@ -109,6 +109,8 @@ class BoardServer:
         self.started = time.monotonic()
         self.lockstep = lockstep     # board time waits for each tick's TICK_DONE
         self.awaiting = None         # the tick whose TICK_DONE is awaited
+        self.cutting = False
+        self.watchdog_at = self.last_valid_clock = None   # board times, for tests
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
                       "watchdog": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
@@ -142,11 +144,18 @@ class BoardServer:
         return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ))
 
     def cut(self):
-        """Inside the fault option's cut of the link (seconds since start)."""
+        """The link is cut: by cut_link(), or inside the fault option's
+        window (seconds since start)."""
+        if self.cutting:
+            return True
         if self.cut_at is None:
             return False
         t = time.monotonic() - self.started
         return t >= self.cut_at and (self.cut_for is None or t < self.cut_at + self.cut_for)
+
+    def cut_link(self, cut=True):
+        """Cut the link now (cut=False: mend it); the board goes on."""
+        self.cutting = cut
 
     def receive(self, data):
         """Bytes from the host."""
@@ -223,6 +232,7 @@ class BoardServer:
     # ---------------------------------------------------------- receiving
     def handle(self, f):
         self.last_valid = time.monotonic()
+        self.last_valid_clock = self.clock.now()
         self.safe = False
         if f.name == "HELLO":
             self.expected, self.send_seq, self.window = 1, 1, {}
