@@ -6,7 +6,8 @@ serving the frame protocol behind a pseudo-terminal or a TCP port, so that
     rcl-board --tcp 127.0.0.1:7000    prints "listening on 127.0.0.1:7000"
     rcl-board --tcp 127.0.0.1:0       any free port (the line names it)
 
-Fault options: --corrupt RATE (flip a bit in that fraction of the bytes,
+--rate R runs board time R times the wall clock; --free-running never
+holds board time for the host (see rcl.hw.server). Fault options: --corrupt RATE (flip a bit in that fraction of the bytes,
 both directions), --cut-at S --cut-for S (the link goes silent at board
 time S, for S seconds or for good; on TCP the connection is closed and
 new ones wait until the cut ends), --stall left|right, --speak-version N
@@ -42,6 +43,10 @@ def parse_args(argv):
     p.add_argument("--cut-for", type=float, metavar="S")
     p.add_argument("--stall", choices=("left", "right"))
     p.add_argument("--speak-version", type=int, default=P.VERSION, metavar="N")
+    p.add_argument("--rate", type=float, default=1.0, metavar="R",
+                   help="board time runs R times the wall clock (default 1)")
+    p.add_argument("--free-running", action="store_true",
+                   help="never wait for the host's TICK_DONE (as a real board)")
     p.add_argument("--report", metavar="FILE.json")
     p.add_argument("--status", action="store_true",
                    help="a status line on stderr (the default on a terminal)")
@@ -122,7 +127,8 @@ def main(argv=None):
     args = parse_args(argv)
     address = tcp_address(args.tcp, args.allow_remote) if args.tcp else None
     server = BoardServer(corrupt=args.corrupt, seed=args.seed, cut_at=args.cut_at,
-                         cut_for=args.cut_for, version=args.speak_version)
+                         cut_for=args.cut_for, version=args.speak_version,
+                         lockstep=not args.free_running, rate=args.rate)
     if args.stall:
         Sim(server.board).stall(args.stall)
     stopping = []

@@ -112,7 +112,7 @@ TABLE = [
     Message("SAFE", 0x0A, HOST, "", doc="safe state now (motors off); answer ACK"),
     Message("TICK_FAILED", 0x0B, HOST, "",
             doc="safe state, and timer 0 stops interrupting; answer ACK"),
-    Message("PING", 0x0C, HOST, "", doc="keep the watchdog fed; answer ACK"),
+    Message("PING", 0x0C, HOST, "", False, doc="keep the watchdog fed; no answer"),
     Message("RUN", 0x0E, HOST, "ops:*BHB",
             doc="port operations as one, as SNAPSHOT's; answer RESULTS"),
     Message("NAK", 0x0D, HOST, "seq:B", False,

@@ -11,6 +11,12 @@ as board firmware would (docs/protocol.md).
 BoardClock is the machine-side API of rcl/board.py for a board with no
 Forth machine beside it: its clock follows the wall clock, and "running
 the INT 1Ch handler" means sending a TICK to the host, whose Forth runs it.
+Board time runs at `rate` times the wall clock (1: real time; more, for
+quick tests). In lockstep (the default) board time stands still from a
+TICK until the host's final TICK_DONE for it, as the handler takes no
+time on the simulated board: what the served board does then depends on
+the frames only, not on how fast the host or the line is. A real board
+cannot wait; `lockstep=False` (rcl-board --free-running) behaves as one.
 Faults for tests and demonstrations: a byte corruption rate on both
 directions, a cut of the link (silence, or for TCP a closed connection)
 at a time for a time, a stalled wheel.
@@ -46,8 +52,8 @@ class BoardClock:
     waiting_until = None
     budget_end = float("inf")
 
-    def __init__(self, server, wall=time.monotonic):
-        self.server, self.wall = server, wall
+    def __init__(self, server, wall=time.monotonic, rate=1.0):
+        self.server, self.wall, self.rate = server, wall, rate
         self.start = wall()
         self.held_since = None       # wall time the clock stopped (lockstep)
         self.clock = 0
@@ -61,7 +67,7 @@ class BoardClock:
     def now(self):
         """Board time now: the wall clock's, less the time held."""
         wall = self.held_since if self.held_since is not None else self.wall()
-        return int((wall - self.start) * CLOCK_HZ)
+        return int((wall - self.start) * self.rate * CLOCK_HZ)
 
     def hold(self):
         """Stop board time (the host is running this tick's handler)."""
@@ -90,8 +96,9 @@ class BoardServer:
     """One simulated board behind one byte stream at a time."""
 
     def __init__(self, corrupt=0.0, seed=1, cut_at=None, cut_for=None,
-                 version=P.VERSION, name="rcl-board (simulated R-E Robot)", lockstep=True):
-        self.clock = BoardClock(self)
+                 version=P.VERSION, name="rcl-board (simulated R-E Robot)", lockstep=True,
+                 rate=1.0):
+        self.clock = BoardClock(self, rate=rate)
         self.board = SimBoard()
         self.board.attach(self.clock)
         self.reader = P.FrameReader()
@@ -141,7 +148,7 @@ class BoardServer:
         due = self.board.due
         if due is None or self.awaiting is not None:
             return 0.005
-        return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ))
+        return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ / self.clock.rate))
 
     def cut(self):
         """The link is cut: by cut_link(), or inside the fault option's
@@ -240,6 +247,8 @@ class BoardServer:
             self.clock.release()
             self.out += P.frame(0, "IDENTIFY", version=self.version,
                                 tick_us=10_000, name=self.name)
+            return
+        if f.name == "PING":
             return
         if f.name == "NAK":
             self.stats["naks"] += 1

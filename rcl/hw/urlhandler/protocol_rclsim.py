@@ -7,6 +7,8 @@ options:
   seed=N         the corruption's random seed (default 1)
   cut_at=S       the link goes silent S seconds (board time) after opening
   cut_for=S      for S seconds (default: for good)
+  rate=R         board time runs R times the wall clock (default 1)
+  version=N      the board answers HELLO with protocol version N (a fault)
 
 The board runs in a thread of its own, paced to the wall clock, through a
 socket pair: the same rcl.hw.server.BoardServer that rcl-board serves.
@@ -18,8 +20,9 @@ import urllib.parse
 
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException, Timeout
 
-OPTIONS = {"corrupt": float, "seed": int, "cut_at": float, "cut_for": float}
-FORMAT = "rclsim://[?corrupt=RATE&seed=N&cut_at=S&cut_for=S]"
+OPTIONS = {"corrupt": float, "seed": int, "cut_at": float, "cut_for": float,
+           "rate": float, "version": int}
+FORMAT = "rclsim://[?corrupt=RATE&seed=N&cut_at=S&cut_for=S&rate=R&version=N]"
 
 
 class Serial(SerialBase):
