@@ -376,6 +376,7 @@ class LinkBoard(Board):
             if f.name == "TICK":
                 self.skipped += 1
                 self.log_script_writes()
+        waited = 0.0
         try:
             while True:
                 try:
@@ -384,11 +385,18 @@ class LinkBoard(Board):
                     self.settle(block=False)      # the last TICK_DONE, resent if lost
                     if not block:
                         return None
+                    if time.monotonic() - waited > P.RETRY_MS / 1000:
+                        waited = time.monotonic()
+                        self.send(P.frame(0, "WAIT", tick=self.next_tick()))
                     if self.lost or time.monotonic() - self.last_rx > P.LOST_MS / 1000:
                         raise LinkLost(self.why or "no tick") from None
         except LinkLost as e:
             self.lose(str(e))
             return None
+
+    def next_tick(self):
+        """The number of the tick waited for (0xFFFF: not known yet)."""
+        return 0xFFFF if self.board_clock is None else (self.last_tick + 1) & 0xFFFF
 
     def board_time(self, tick):
         """The virtual time of tick number `tick` (ticks are a period apart;
@@ -453,8 +461,9 @@ class LinkBoard(Board):
         for i in range(0, max(1, len(writes)), 20):
             part = writes[i:i + 20]
             last = final and i + 20 >= len(writes)
+            us = min(0xFFFF, (self.machine.clock - self.board_clock) // US)
             if self.io("TICK_DONE", wait=False, tick=self.tick_number, final=int(last),
-                       writes=part) is None:
+                       us=max(0, us), writes=part) is None:
                 return
             self.sent_writes.extend(part)
 

@@ -13,9 +13,11 @@ Forth machine beside it: its clock follows the wall clock, and "running
 the INT 1Ch handler" means sending a TICK to the host, whose Forth runs it.
 Board time runs at `rate` times the wall clock (1: real time; more, for
 quick tests). In lockstep (the default) board time stands still from a
-TICK until the host's final TICK_DONE for it, as the handler takes no
-time on the simulated board: what the served board does then depends on
-the frames only, not on how fast the host or the line is. A real board
+TICK until the host, its handler done (final TICK_DONE), waits for the
+next one (WAIT): the handler and the host's foreground work between ticks
+take no board time, as in the simulation, where they take microseconds.
+What the served board does then depends on the frames only, not on how
+fast the host or the line is. A real board
 cannot wait; `lockstep=False` (rcl-board --free-running) behaves as one.
 Faults for tests and demonstrations: a byte corruption rate on both
 directions, a cut of the link (silence, or for TCP a closed connection)
@@ -66,16 +68,18 @@ class BoardClock:
 
     def now(self):
         """Board time now: the wall clock's, less the time held."""
-        wall = self.held_since if self.held_since is not None else self.wall()
-        return int((wall - self.start) * self.rate * CLOCK_HZ)
+        if self.held_since is not None:
+            return self.clock
+        return int((self.wall() - self.start) * self.rate * CLOCK_HZ)
 
     def hold(self):
-        """Stop board time (the host is running this tick's handler)."""
+        """Stop board time where it is (the host runs this tick's handler)."""
         self.held_since = self.wall()
 
     def release(self):
+        """Board time goes on from where it stopped."""
         if self.held_since is not None:
-            self.start += self.wall() - self.held_since
+            self.start = self.wall() - self.clock / (self.rate * CLOCK_HZ)
             self.held_since = None
 
     def catch_up(self, t):
@@ -115,7 +119,8 @@ class BoardServer:
         self.last_sent = 0.0
         self.started = time.monotonic()
         self.lockstep = lockstep     # board time waits for each tick's TICK_DONE
-        self.awaiting = None         # the tick whose TICK_DONE is awaited
+        self.awaiting = None         # the tick whose handler the host runs (lockstep)
+        self.done = False            # ... and its final TICK_DONE has come
         self.cutting = False
         self.watchdog_at = self.last_valid_clock = None   # board times, for tests
         self.out = bytearray()
@@ -135,8 +140,8 @@ class BoardServer:
             self.lateness.append(late)
             self.stats["late"] += late > 0.002
             b.service(c)
-        if self.awaiting is None:
-            c.catch_up(now)
+        if not self.lockstep:
+            c.catch_up(now)        # (in lockstep the clock moves by ticks and frames only)
         wall = time.monotonic()
         self.watchdog(wall)
         if wall - self.last_sent >= P.HEARTBEAT_MS / 1000:
@@ -230,7 +235,8 @@ class BoardServer:
         self.stats["ticks_sent"] += 1
         self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
         if self.lockstep and not self.safe:
-            self.awaiting = b.ticks & 0xFFFF
+            self.awaiting, self.done = b.ticks & 0xFFFF, False
+            self.held_at = self.clock.clock
             self.clock.hold()
 
     def reply(self, message, /, **values):
@@ -249,6 +255,11 @@ class BoardServer:
                                 tick_us=10_000, name=self.name)
             return
         if f.name == "PING":
+            return
+        if f.name == "WAIT":
+            if self.done and f["tick"] == (self.awaiting + 1) & 0xFFFF:
+                self.awaiting, self.done = None, False
+                self.clock.release()
             return
         if f.name == "NAK":
             self.stats["naks"] += 1
@@ -272,6 +283,8 @@ class BoardServer:
         self.act(f)
 
     def act(self, f):
+        if self.awaiting is None:                  # not held: the frame's own moment
+            self.clock.catch_up(self.clock.now())
         b, v = self.board, f.values
         name = f.name
         if name == "OUT8":
@@ -292,11 +305,13 @@ class BoardServer:
         elif name == "SNAPSHOT":
             self.script = list(v["ops"])
         elif name == "TICK_DONE":
+            if self.awaiting == v["tick"] and not self.done:   # held: the handler's own time
+                due = b.due if b.due is not None else float("inf")
+                self.clock.catch_up(min(self.held_at + v["us"] * US, due))
             for port, value in v["writes"]:
                 b.out8(port, value)
             if v["final"] and v["tick"] == self.awaiting:
-                self.awaiting = None
-                self.clock.release()
+                self.done = True
         elif name == "SAFE":
             b.stop_motors()
         elif name == "TICK_FAILED":
