@@ -100,7 +100,7 @@ def serve_tcp(server, address, stop, status):
         status("waiting")
         server.run_until(server.clock.now())
         server.take_output()                  # nobody to hear it
-        if server.cut(server.clock.now()) or not select.select([listener], [], [], 0.005)[0]:
+        if server.cut() or not select.select([listener], [], [], 0.005)[0]:
             continue
         conn, _ = listener.accept()
         conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
