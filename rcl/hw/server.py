@@ -233,7 +233,7 @@ class BoardServer:
         b = self.board
         results = [(r,) for r in b.port_script(self.script)]
         self.stats["ticks_sent"] += 1
-        self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
+        self.last_tick_frame = self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
         if self.lockstep and not self.safe:
             self.awaiting, self.done = b.ticks & 0xFFFF, False
             self.held_at = self.clock.clock
@@ -257,9 +257,13 @@ class BoardServer:
         if f.name == "PING":
             return
         if f.name == "WAIT":
+            if self.awaiting is None:
+                return
             if self.done and f["tick"] == (self.awaiting + 1) & 0xFFFF:
                 self.awaiting, self.done = None, False
                 self.clock.release()
+            elif f["tick"] == self.awaiting:            # the host never got that TICK
+                self.out += self.last_tick_frame
             return
         if f.name == "NAK":
             self.stats["naks"] += 1
