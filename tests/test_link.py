@@ -132,3 +132,24 @@ def test_unknown_url_options_are_refused_with_the_format():
     with pytest.raises(LinkError) as e:
         rcl.open(port="rclsim://?speed=3")
     assert "rclsim://[?corrupt=RATE" in str(e.value)
+
+
+def test_a_move_over_usb_runs_through_pyusb_to_the_simulated_usb_board(linked):
+    m = rcl.open(usb="sim")
+    try:
+        m.evaluate("RERB 6 INCHES FORWARD")
+        assert near(m.sim.wheel_counts, plain("RERB 6 INCHES FORWARD"))
+        assert m.board.port.portstr == "usb:1209:0001"
+    finally:
+        m.board.close()
+
+
+def test_the_simulated_usb_board_is_listed_as_a_usb_board():
+    from rcl.hw.usb import SimBoardBackend, list_usb
+    assert list_usb(SimBoardBackend()) == ["usb 1209:0001  rcl simulated R-E Robot board"]
+
+
+def test_a_usb_id_that_is_not_hex_is_refused_with_the_format():
+    with pytest.raises(LinkError) as e:
+        rcl.open(usb="robot")
+    assert "VID:PID in hex" in str(e.value)

@@ -108,3 +108,13 @@ def test_rcl_board_listens_on_loopback_only_unless_allowed():
     run = subprocess.run([sys.executable, "-m", "rcl.hw.boardcli", "--tcp", "0.0.0.0:0"],
                          capture_output=True, text=True, timeout=30)
     assert run.returncode != 0 and "--allow-remote" in run.stderr
+
+
+def test_rcl_usb_sim_drives_the_simulated_usb_board():
+    run = rcl_cli("--usb", "sim", "-e", "RERB 2 INCHES FORWARD TICKS@ D. BYE")
+    assert run.returncode == 0, run.stderr
+
+
+def test_rcl_list_ports_lists_and_never_fails():
+    run = rcl_cli("--list-ports")
+    assert run.returncode == 0 and run.stdout.strip() and "Traceback" not in run.stderr
