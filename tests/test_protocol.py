@@ -16,7 +16,7 @@ SAMPLES = {
     "SAFE": {}, "TICK_FAILED": {}, "PING": {}, "NAK": dict(seq=9),
     "WAIT": dict(tick=0x0102),
     "RUN": dict(ops=[(0, 0x87, 0x40), (1, 0x85, 0)]),
-    "IDENTIFY": dict(version=1, tick_us=10_000, name="R-E Robot"),
+    "IDENTIFY": dict(version=1, tick_us=10_000, flags=0, name="R-E Robot"),
     "ACK": dict(ack=7), "VALUE": dict(ack=7, value=0x1234),
     "TICK": dict(tick=65535, off=0x2A10, results=[(1,), (2,)]),
     "HEARTBEAT": dict(time_us=123_456_789, ticking=1),

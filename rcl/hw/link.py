@@ -74,6 +74,7 @@ class LinkBoard(Board):
         self.stopping = threading.Event()
         self.lost, self.lost_at, self.why = False, 0.0, ""
         self.ticks = self.skipped = self.retries = 0
+        self.late = 0                         # ticks run more than 2 ms after they came
         self.period = 10_000 * US
         self.board_clock = None               # virtual time of the last tick
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
@@ -106,6 +107,7 @@ class LinkBoard(Board):
                               "version %d. Update the board's firmware or rcl."
                               % (ident["version"], P.VERSION))
         self.name, self.period = ident["name"], ident["tick_us"] * US
+        self.lockstep = bool(ident["flags"] & P.FLAG_LOCKSTEP)
         self.lost = False
         self.request("SNAPSHOT", ops=self.script)
         self.board_clock, self.ticking, self.last_us = None, False, None
@@ -181,7 +183,7 @@ class LinkBoard(Board):
     def dispatch(self, f, now):
         """Board frames are taken in sequence order: one that comes early is
         held, and the missing one asked for again (NAK)."""
-        self.last_rx = now
+        self.last_rx = f.arrived = now
         if f.name == "IDENTIFY":
             self.expected, self.held = 1, {}
             self.identify.put(f.values)
@@ -385,7 +387,7 @@ class LinkBoard(Board):
                     self.settle(block=False)      # the last TICK_DONE, resent if lost
                     if not block:
                         return None
-                    if time.monotonic() - waited > P.RETRY_MS / 1000:
+                    if self.lockstep and time.monotonic() - waited > P.RETRY_MS / 1000:
                         waited = time.monotonic()
                         self.send(P.frame(0, "WAIT", tick=self.next_tick()))
                     if self.lost or time.monotonic() - self.last_rx > P.LOST_MS / 1000:
@@ -417,6 +419,7 @@ class LinkBoard(Board):
 
     def run_tick(self, m, tick):
         self.ticks += 1
+        self.late += time.monotonic() - tick.arrived > 0.002
         m.catch_up(self.board_time(tick["tick"]))
         self.log_script_writes()
         self.results = [r for (r,) in tick["results"]]

@@ -120,8 +120,9 @@ TABLE = [
             doc="the host waits for tick `tick`; a lockstep board lets its time run; no answer"),
     Message("NAK", 0x0D, HOST, "seq:B", False,
             doc="board frame `seq` was not received: send it again"),
-    Message("IDENTIFY", 0x81, BOARD, "version:B tick_us:H name:s", False,
-            doc="answer to HELLO: the board's protocol version, tick period, name"),
+    Message("IDENTIFY", 0x81, BOARD, "version:B tick_us:H flags:B name:s", False,
+            doc="answer to HELLO: the board's protocol version, tick period, flags "
+                "(FLAG_LOCKSTEP), name"),
     Message("ACK", 0x82, BOARD, "ack:B", doc="host frame `ack` was acted on"),
     Message("VALUE", 0x83, BOARD, "ack:B value:H", doc="host frame `ack` read `value`"),
     Message("TICK", 0x84, BOARD, "tick:H off:H results:*B",
@@ -136,6 +137,7 @@ TABLE = [
 ]
 BY_NAME = {m.name: m for m in TABLE}
 BY_ID = {m.id: m for m in TABLE}
+FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT (simulated only)
 SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 

@@ -251,8 +251,8 @@ class BoardServer:
             self.expected, self.send_seq, self.window = 1, 1, {}
             self.awaiting = None
             self.clock.release()
-            self.out += P.frame(0, "IDENTIFY", version=self.version,
-                                tick_us=10_000, name=self.name)
+            self.out += P.frame(0, "IDENTIFY", version=self.version, tick_us=10_000,
+                                flags=P.FLAG_LOCKSTEP if self.lockstep else 0, name=self.name)
             return
         if f.name == "PING":
             return
