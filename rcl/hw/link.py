@@ -33,9 +33,6 @@ from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
 
-if "rcl.hw.urlhandler" not in serial.protocol_handler_packages:
-    serial.protocol_handler_packages.append("rcl.hw.urlhandler")
-
 US = CLOCK_HZ // 1_000_000
 PCB_BASE = 0xFF00
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
