@@ -61,9 +61,12 @@ def test_waiting_words_wait_for_the_boards_ticks(linked):
 
 
 def test_one_percent_corruption_each_way_changes_no_count_and_acts_on_no_bad_frame(linked):
+    clean = linked("rclsim://?rate=8")
+    clean.evaluate(LEGS)
     m = linked("rclsim://?rate=8&corrupt=0.01&seed=3")
     m.evaluate(LEGS)
     server = m.board.port.server
+    assert m.sim.wheel_counts == clean.sim.wheel_counts          # the same counts
     assert near(m.sim.wheel_counts, plain(LEGS))
     assert server.reader.bad > 0 and m.board.retries > 0      # the line really was bad
     board_writes = writes_by_port((p, v) for _, p, v in server.board.port_log)

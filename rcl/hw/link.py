@@ -313,7 +313,10 @@ class LinkBoard(Board):
         self.flush_tick_writes()
         self.io("OUT16", port=port, value=word)
         if not self.in_tick and not self.lost:
-            self.due = self.machine.clock     # the timer may tick now: find out
+            # The timer may tick now: wait for its first tick a period on (a
+            # HEARTBEAT says if none comes), so the host's time meets it there.
+            self.ticking = True
+            self.due = self.machine.clock + self.period
             self.machine.reschedule()
 
     def in16(self, port):
@@ -428,7 +431,7 @@ class LinkBoard(Board):
         finally:
             self.flush_tick_writes(final=True)
             self.in_tick = False
-        self.due = m.clock if not self.events.empty() else self.board_clock + self.period
+        self.due = self.board_clock + self.period         # the next tick's time, queued or not
 
     def log_script_writes(self):
         self.sent_writes.extend((port, value) for op, port, value in self.script

@@ -318,8 +318,10 @@ class BoardServer:
                 self.done = True
         elif name == "SAFE":
             b.stop_motors()
-        elif name == "TICK_FAILED":
+        elif name == "TICK_FAILED":               # no TICK_DONE will come for this tick
             b.tick_failed()
+            self.awaiting, self.done = None, False
+            self.clock.release()
         self.reply("ACK", ack=f.seq)
 
     # ------------------------------------------------------------ serving
