@@ -156,3 +156,19 @@ def test_a_usb_id_that_is_not_hex_is_refused_with_the_format():
     with pytest.raises(LinkError) as e:
         rcl.open(usb="robot")
     assert "VID:PID in hex" in str(e.value)
+
+
+def test_ctrl_c_during_a_move_on_a_link_opens_the_boards_relays(linked):
+    m = linked("rclsim://")
+    server = m.board.port.server
+
+    def break_mid_move(board, done=[]):
+        if not done and board.drive.left.position > 150:
+            done.append(True)
+            m.request_break()
+    server.board.observers.append(break_mid_move)
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("RERB 2 FEET FORWARD")
+    assert e.value.message == "Interrupted"
+    assert wait_for(lambda: server.board.motor_latch == 0)
+    assert server.stats["watchdog"] == 0          # the host said SAFE itself

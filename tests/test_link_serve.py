@@ -118,3 +118,15 @@ def test_rcl_usb_sim_drives_the_simulated_usb_board():
 def test_rcl_list_ports_lists_and_never_fails():
     run = rcl_cli("--list-ports")
     assert run.returncode == 0 and run.stdout.strip() and "Traceback" not in run.stderr
+
+
+def test_rcl_port_says_plainly_when_the_port_is_busy(serve):
+    import serial
+    board = serve("--pty")
+    held = serial.Serial(board.where, exclusive=True)
+    try:
+        run = rcl_cli("--port", board.where, "-e", "BYE")
+    finally:
+        held.close()
+    assert run.returncode == 2
+    assert "port busy" in run.stderr and "Traceback" not in run.stderr
