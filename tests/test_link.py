@@ -172,3 +172,10 @@ def test_ctrl_c_during_a_move_on_a_link_opens_the_boards_relays(linked):
     assert e.value.message == "Interrupted"
     assert wait_for(lambda: server.board.motor_latch == 0)
     assert server.stats["watchdog"] == 0          # the host said SAFE itself
+
+
+def test_sequence_numbers_wrap_past_255_without_losing_a_request(linked):
+    m = linked()
+    m.evaluate(": PEEKS  0 DO  138 PC@ DROP  LOOP ;  600 PEEKS")
+    assert m.board.retries == 0 and m.board.port.server.stats["duplicates"] == 0
+    assert m.board.seq == m.board.port.server.expected != 0

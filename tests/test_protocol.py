@@ -83,3 +83,8 @@ def test_every_hex_example_in_the_protocol_document_is_a_good_frame():
         assert f.seq == (1 if f.message.sequenced else 0), line
         names.add(f.name)
     assert names == set(P.BY_NAME) and reader.bad == 0
+
+
+def test_host_sequence_numbers_run_1_to_255_and_never_0():
+    assert P.following(254) == 255 and P.following(255) == 1
+    assert P.previous(1) == 255 and P.previous(2) == 1

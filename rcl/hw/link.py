@@ -222,7 +222,7 @@ class LinkBoard(Board):
         self.settle()
         if self.lost:
             raise LinkLost(self.why)
-        seq, self.seq = self.seq, (self.seq + 1) & 0xFF
+        seq, self.seq = self.seq, P.following(self.seq)
         data = P.frame(seq, name, **values)
         self.pending = [seq, data, name, time.monotonic() + REQUEST_GIVE_UP, time.monotonic()]
         self.send(data)
@@ -472,6 +472,8 @@ class LinkBoard(Board):
 
     # -------------------------------------------------------------- safety
     def stop_motors(self):
+        if self.pending is not None:              # inside a request (a signal came): no wait
+            return self.send(P.frame(0, "SAFE"))
         if not self.lost:
             try:
                 self.request("SAFE")

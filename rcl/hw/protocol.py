@@ -235,6 +235,16 @@ class FrameReader:
         del self.buf[:1]
 
 
+def following(seq):
+    """The host's next SEQ: 1..255 and round again; 0 is never used, so a
+    frame with SEQ 0 from the host is always an unsequenced one."""
+    return seq % 255 + 1
+
+
+def previous(seq):
+    return 255 if seq == 1 else seq - 1
+
+
 def newer(seq, expected):
     """Where seq lies from expected, mod 256: 0 is it, 1..127 ahead (a gap),
     -128..-1 behind (already seen)."""

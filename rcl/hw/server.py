@@ -270,15 +270,16 @@ class BoardServer:
             if f["seq"] in self.window:           # that one frame again (selective repeat)
                 self.out += self.window[f["seq"]]
             return
-        d = P.newer(f.seq, self.expected)
-        if d < 0:
+        if f.name == "SAFE":                      # idempotent: acted on whatever its SEQ
+            self.board.stop_motors()
+        if f.seq == P.previous(self.expected):
             self.stats["duplicates"] += 1
-            if d == -1 and self.last_reply is not None:
+            if self.last_reply is not None:
                 self.out += self.last_reply       # our answer was lost: again
             return
-        if d > 0:
-            return                                # not ours to take: the host resends
-        self.expected = (self.expected + 1) & 0xFF
+        if f.seq != self.expected:
+            return                                # not ours to take (SEQ 0: unsequenced)
+        self.expected = P.following(self.expected)
         if f.message.sender != P.HOST:
             self.stats["refused"] += 1
             self.reply("REFUSED", ack=f.seq, reason="not a host message")
