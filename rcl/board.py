@@ -24,6 +24,7 @@ the machine owns its clock and no board assigns it):
     machine.run_handler(xt)  from service(): run the Forth word xt
     machine.request_stop(e)  raise error e at the foreground's next
                              primitive boundary (a lost link)
+    machine.in_forth, .masked  Forth is running (a word, or a handler)
     machine.mem, machine.memory.cstore   the Forth segment's 64 KiB
 
 Implementations: rcl.sim.board.SimBoard (the simulated R-E Robot board),
