@@ -130,3 +130,11 @@ def test_rcl_port_says_plainly_when_the_port_is_busy(serve):
         held.close()
     assert run.returncode == 2
     assert "port busy" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_a_wheel_stalled_on_the_served_board_is_a_following_error_at_the_host(serve):
+    board = serve("--pty", "--stall", "left", "--rate", "8")
+    run = rcl_cli("--port", board.where, "-e", "RERB 6 INCHES FORWARD")
+    assert run.returncode == 1 and "Following error" in run.stderr
+    report = board.stop()
+    assert report["wheel_counts"][0] == 0 and report["relays"][0] == 0
