@@ -56,7 +56,7 @@ def test_waiting_words_wait_for_the_boards_ticks(linked):
     m = linked()
     before = m.board.ticks
     out = m.evaluate("TICKS@ 100 MS TICKS@ 2SWAP D- D.")
-    assert out.strip() in ("10", "11")          # BIOS ticks counted by the board
+    assert out.strip() in ("9", "10", "11")     # BIOS ticks counted by the board, within one
     assert m.board.ticks - before >= 10                  # each one a TICK frame run here
 
 

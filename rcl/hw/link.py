@@ -78,7 +78,11 @@ class LinkBoard(Board):
         self.bytes_out = self.bytes_in = 0
         self.in_tick = False
         self.name = ""
-        self.connect()
+        try:
+            self.connect()
+        except BaseException:
+            self.close()                      # no thread or open port left behind
+            raise
 
     # ------------------------------------------------------------ session
     def connect(self, reopen=True):
@@ -129,6 +133,8 @@ class LinkBoard(Board):
 
     def close(self):
         self.stopping.set()
+        if self.port is None:
+            return
         if self.reader is not None and self.reader is not threading.current_thread():
             self.reader.join(1.0)
         try:
@@ -140,7 +146,8 @@ class LinkBoard(Board):
         try:
             self.reopen()
         except (P.LinkError, serial.SerialException, OSError) as e:
-            self.lose(str(e), stop=False)
+            self.lost, self.lost_at, self.why = True, time.monotonic(), str(e)
+            self.due = None
             return "Link lost: %s" % e
         return "Link up: %s, protocol %d" % (self.name, P.VERSION)
 
@@ -274,8 +281,8 @@ class LinkBoard(Board):
         self.lost_at = time.monotonic()
         try:
             self.reopen()
-        except (P.LinkError, serial.SerialException, OSError):
-            self.lost, self.lost_at = True, time.monotonic()
+        except (P.LinkError, serial.SerialException, OSError) as e:
+            self.lost, self.lost_at, self.why = True, time.monotonic(), str(e)
             self.machine.request_stop(link_lost())   # taken at the next primitive boundary
             return False
         return True
