@@ -3,7 +3,7 @@ endpoints carry the same bytes a serial line would (`rcl --usb VID:PID`),
 and a pyusb backend that presents the simulated board as such a device, so
 that pyusb's own code runs in the tests (`rcl --usb sim`).
 
-    the board's USB device (docs/protocol.md, "USB")
+    the board's USB device (docs/protocol.md, "Transports")
       configuration 1, interface 0: class 0xFF (vendor), 2 endpoints
         0x01 bulk OUT, 64 bytes   host -> board frames
         0x81 bulk IN,  64 bytes   board -> host frames
