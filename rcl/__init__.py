@@ -26,7 +26,8 @@ def _screens_folder():
 SCREENS = _screens_folder()
 
 
-def open(realtime=False, write=None, screens=True, image=None, board=None):  # noqa: A001
+def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (DESIGN.md's name)
+         board=None, port=None, usb=None):
     """A running system: a machine wired to a simulated board with RCL
     loaded and INSTALL run (screens=False: the board alone; a folder: RCL
     from that folder's rcl.fs instead of the installed one), with `.sim`
@@ -35,7 +36,12 @@ def open(realtime=False, write=None, screens=True, image=None, board=None):  # n
     image="file": the system SAVE-SYSTEM wrote instead of the screens, its
     interrupt handler installed again (rcl.forth.image.ImageError if the
     file is refused). `board` is a fresh SimBoard (or subclass) to use
-    instead of a new one. (`open` is DESIGN.md's name for it.)"""
+    instead of a new one.
+    port="URL" (any pyserial URL or device) or usb="VID:PID": RCL on a
+    board over the link instead (rcl.hw; rcl.hw.protocol.LinkError if it
+    cannot connect); `.sim` only when the board is rclsim://'s simulation."""
+    if port is not None or usb is not None:
+        return open_link(port, usb, write, screens, image)
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
@@ -63,3 +69,21 @@ def start_image(m, path):
     if hit is not None and m.memory.fetch((hit[0] + 2) & 0xFFFF) and m.dictionary.find("INSTALL"):
         m.evaluate("INSTALL")
     m.safe_state()
+
+
+def open_link(port, usb, write, screens, image):
+    """RCL on a board over a link (rcl --port / --usb)."""
+    from rcl.hw.connect import open_link as connect
+    board = connect(port=port, usb=usb)
+    m = Forth(write=write, board=board)
+    server = getattr(board.port, "server", None)
+    if server is not None:
+        from rcl.sim.observe import Sim
+        m.sim = Sim(server.board)
+    m.screens_dir = screens if isinstance(screens, str) else SCREENS
+    if image is not None:
+        start_image(m, image)
+    elif screens:
+        m.include(os.path.join(m.screens_dir, "rcl.fs"))
+    m.documented_end = m.dictionary.here      # HELP: later words are the user's
+    return m

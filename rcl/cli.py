@@ -117,6 +117,8 @@ def make_machine(args, write):
             if args.image:
                 load(m, args.image)
             return m
+        if args.port or args.usb:
+            return open_on_link(args, write)
         screens = False if args.board_only else (args.screens or True)
         m = rcl.open(write=write, realtime=args.realtime, screens=screens, image=args.image)
     except ImageError as e:
@@ -128,6 +130,8 @@ def make_machine(args, write):
 
 
 def describe(args):
+    if args.port or args.usb:
+        return "board on %s" % (args.port or "USB " + args.usb)
     if args.bare:
         return "bare machine"
     return "simulated board" + (", no RCL screens" if args.board_only else "")
@@ -170,6 +174,34 @@ def find_file(path, m):
     return there if os.path.isfile(there) else path
 
 
+def add_link_args(p):
+    """--port, --usb, --list-ports: a board on a link (rcl.hw)."""
+    link = p.add_mutually_exclusive_group()
+    link.add_argument("--port", metavar="URL",
+                      help="drive a board on a serial port or pyserial URL "
+                           "(/dev/ttyUSB0, socket://127.0.0.1:7000, rclsim://)")
+    link.add_argument("--usb", metavar="VID:PID", help="drive a board on USB (bulk endpoints)")
+    p.add_argument("--list-ports", action="store_true",
+                   help="list serial ports and USB boards, then leave")
+
+
+def open_on_link(args, write):
+    """RCL on the board at --port or --usb; a refusal is said and exits 2."""
+    from rcl.hw.protocol import LinkError
+    try:
+        return rcl.open(write=write, port=args.port, usb=args.usb, image=args.image)
+    except LinkError as e:
+        sys.stderr.write("rcl: %s\n" % e)
+        raise SystemExit(2) from None
+
+
+def list_ports():
+    from rcl.hw.connect import list_ports as lines
+    for line in lines():
+        print(line)
+    return 0
+
+
 # --------------------------------------------------------------- arguments
 def parse_args(argv):
     p = argparse.ArgumentParser(
@@ -201,6 +233,7 @@ def parse_args(argv):
     p.add_argument("--plot", metavar="FILE.png",
                    help="draw path, wheel speeds and following error at the end "
                         "(.png .svg .pdf; needs the extra rcl[plot])")
+    add_link_args(p)
     p.add_argument("--version", action="version", version="rcl " + version())
     args = p.parse_intermixed_args(argv)
     if args.bare and (args.board_only or args.realtime or args.start is not None
@@ -323,6 +356,8 @@ def run(argv):
     args = parse_args(argv)
     if sys.stdout is None:
         raise StdoutClosed("standard output is closed")
+    if args.list_ports:
+        return list_ports()
     if not (args.trace or args.plot):
         return run_machine(args)
     from rcl.recording import Recording, RecordingError

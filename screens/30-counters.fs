@@ -7,7 +7,9 @@
 \ pulses downward; the software extends them to 32 bits.
 \ The 80188 assembly of the original is a Python primitive here (CODE
 \ binds the name to it and skips the assembler text up to END-CODE).
-CREATE CNT-STATE  24 ALLOT  \ ( -- addr ) per wheel: previous counts, totals
+CODE CNT-STATE  ( -- addr )  per wheel: previous counts, totals. A table
+   the counter routines below find by CODE's binding, not by name.
+END-CODE  24 ALLOT
 CODE INIT-COUNTERS  ( -- )  program both 8253s (counters 0 mode 3,
    counters 1 and 2 mode 2 from 65536), zero the totals.
 END-CODE

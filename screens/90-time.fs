@@ -4,6 +4,9 @@
 \ Listing 3's calibrated loop `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word
 \ spends exactly that loop's virtual time, with every tick still serviced;
 \ like every wait it refuses to start when no tick can come.
+CODE IDLE-CELLS  ( -- addr )  where (MS) finds what IDLE? reads (it runs no
+   Forth, so MS keeps its calibrated time): MOVING ARM-BITS ' CONTROL STOCK-CONTROL
+END-CODE  MOVING ,  ARM-BITS ,  ' CONTROL ,  STOCK-CONTROL ,
 CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time (after
    ?TICKING's check, at no cost); while IDLE? it counts idle ticks out.
 END-CODE

@@ -46,7 +46,7 @@ def test_the_failures_the_page_shows_are_what_pytest_prints(pytester):
     (pytester.path / "box.fs").write_text(files["box.fs"])
     (pytester.path / "test_box.fs").write_text(files["test_box.fs"].replace("1193. }T", "1194. }T"))
     (pytester.path / "test_box.py").write_text(files["test_box.py"].replace(
-        "x=0.07, y=0.26", "x=0.0, y=0.0"))
+        "x=0.21, y=0.33", "x=0.0, y=0.0"))
     result = run(pytester)
     result.assert_outcomes(passed=6, failed=2)
     page = DOC.read_text()

@@ -143,6 +143,7 @@ class Inner:
         self.waiting_until = None
         self.break_pending = False   # Ctrl-C seen, to be taken at a primitive boundary
         self.leave_signal = None     # and a signal asked to quit
+        self.stop_error = None       # or an error to raise there (request_stop)
         self.handler_deadline = math.inf
 
     # ---------------------------------------------------------- calling
@@ -157,7 +158,8 @@ class Inner:
 
     def set_cost(self, name, microseconds):
         """Make primitive `name` cost this many microseconds of virtual time."""
-        from rcl.forth.primitives import BY_NAME, CLOCK_HZ
+        from rcl.board import CLOCK_HZ
+        from rcl.forth.primitives import BY_NAME
         self.cost[BY_NAME[name].number] = round(microseconds * CLOCK_HZ / 1_000_000)
         self.invalidate()
 
@@ -287,7 +289,8 @@ class Inner:
             self.reschedule()
             if self.leave_signal:
                 raise Terminated(self.leave_signal)
-            raise ForthError(-28, "Interrupted")
+            error, self.stop_error = self.stop_error, None
+            raise error or ForthError(-28, "Interrupted")
         self.reschedule()
 
     def request_break(self, leave=None):
@@ -298,6 +301,24 @@ class Inner:
         self.leave_signal = self.leave_signal or leave
         self.break_pending = True
         self.deadline = -1
+
+    def request_stop(self, error):
+        """A board lost what it needs (its link): raise `error` in the
+        foreground at its next primitive boundary, as a break is taken."""
+        self.stop_error = self.stop_error or error
+        self.request_break()
+
+    @property
+    def budget_end(self):
+        """The clock value at which the foreground's step budget ends."""
+        return self.clock_limit
+
+    def catch_up(self, t):
+        """A board has accounted for the time up to t itself (idle ticks
+        counted in arithmetic, or a board's own clock on a link): the clock
+        moves there, never back, and the next deadline is recomputed."""
+        self.clock = max(self.clock, t)
+        self.reschedule()
 
     def attach(self, source):
         """Plug in an interrupt source: an object with `due` (the clock value

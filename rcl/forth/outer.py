@@ -274,6 +274,7 @@ class Outer:
         motors off again, whatever the hooks did."""
         self.board.stop_motors()
         self.break_pending = bool(self.leave_signal)   # Ctrl-C is answered; a quit is not
+        self.stop_error = None
         system = self.memory.fetch((self.xt_of["SAFE-STATE"] + 2) & MASK)
         for xt in ([system] if system else []) + [self.xt_of["ON-ABORT"]]:
             self.run_hook(xt)

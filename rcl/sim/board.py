@@ -31,8 +31,7 @@ else is taken as the power-on IRET.
 """
 import collections
 
-from rcl.board import FORTH_CS, Board
-from rcl.forth.primitives import CLOCK_HZ
+from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
@@ -364,7 +363,7 @@ class SimBoard(Board):
                 or not self.observers_allow_batching():
             return n
         clock, ticks, last = m.clock, 0, None
-        limit = m.clock_limit                     # a step budget still applies
+        limit = m.budget_end                      # a step budget still applies
         while n > 0:
             k = max(0, -(-(d - clock) // c))      # primitives until the tick
             if k >= n:
@@ -382,11 +381,13 @@ class SimBoard(Board):
             self.pcb.write16(0x22, EOI_TIMER, last)
             self.ticks += ticks
             self.count_ticks(ticks)
-        m.clock = max(m.clock, clock)
-        self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
-        m.reschedule()
+        self.due = self.pcb.next_interrupt(self.pcb_time(max(m.clock, clock)))
+        m.catch_up(clock)
         self.sync()
         return n
+
+    def wait_started(self):
+        self.handler_cost = None          # trust only a tick timed in this wait
 
     def trace(self, file=None):
         from rcl.sim.observe import Trace     # observe builds on this module

@@ -10,7 +10,7 @@ inches, degrees and seconds, and the faults it can inject.
 """
 import csv
 
-from rcl.forth.primitives import CLOCK_HZ
+from rcl.board import CLOCK_HZ
 from rcl.sim import constants as C
 
 WHEELS = ("left", "right")

@@ -9,7 +9,7 @@ case, so a run of any length keeps its memory bounded.
 import collections
 import time
 
-from rcl.forth.primitives import CLOCK_HZ
+from rcl.board import CLOCK_HZ
 
 RECENT = 6000                     # ticks kept one by one: a minute of 10 ms ticks
 LATE = 0.002                      # seconds: a tick this late counts as late

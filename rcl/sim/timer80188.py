@@ -70,7 +70,7 @@ NOTES (not modelled):
     and the extra ones are counted in `missed`.
 """
 from rcl.errors import RclError
-from rcl.forth.primitives import CLOCK_HZ
+from rcl.board import CLOCK_HZ
 
 # ---------------------------------------------------------------------------
 # CONSTANTS (board-hardware.md sections 3, 5.7, 8)

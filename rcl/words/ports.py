@@ -62,3 +62,9 @@ def l_store(m):
 @prim("GET-CS", "( -- seg ) the code segment of the Forth system")
 def get_cs(m):
     m.s.append(FORTH_CS)
+
+
+@prim("RECONNECT", "( -- ) connect again to a board whose link was lost; "
+      "say how it went", kind="call")
+def reconnect(m):
+    m.type(" %s " % m.board.reconnect())

@@ -8,8 +8,18 @@ They stay out of the dictionary until an RCL screen binds them with
 Counter state lives in memory, in the screen's `CNT-STATE` (12 bytes per
 wheel): previous forward and reverse counter values, then the 32-bit
 forward and reverse totals (high cell first, as 2! keeps them).
+
+How the primitives find RCL's variables without looking names up: a
+table is itself a CODE word. `CODE CNT-STATE ... END-CODE 24 ALLOT`
+binds the name to a primitive that pushes its body's address, as CREATE
+would, and CODE records the word's xt in `m.xt_of` (kept by SAVE-SYSTEM),
+so a primitive finds the body from the xt: one dictionary lookup of
+Python's, at no virtual-time cost, and nothing added to MS or the tick.
+Layer 9's `IDLE-CELLS` is such a table of the addresses IDLE? reads:
+MOVING, ARM-BITS, CONTROL's xt and STOCK-CONTROL, laid down by the screen
+at load time (`MOVING , ARM-BITS , ...`).
 """
-from rcl.board import FORTH_CS
+from rcl.board import FORTH_CS, IN8, OUT8
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
 from rcl.forth.inner import DOCOL
@@ -19,15 +29,29 @@ BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
 CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 80188
 
 
+def table(m, name):
+    """The body of the CODE table `name` (its xt recorded when CODE bound it)."""
+    xt = m.xt_of.get(name)
+    if xt is None:
+        raise ForthError(-13, "?", name)
+    return (xt + 2) & MASK
+
+
+def code_table(name, effect):
+    """Declare a table primitive: CODE name ... END-CODE, then its cells."""
+    @prim(name, effect, hidden=True)
+    def push_body(m):
+        m.s.append(table(m, name))
+    return push_body
+
+
+code_table("CNT-STATE", "( -- addr ) per wheel: previous counts, 32-bit totals")
+code_table("IDLE-CELLS", "( -- addr ) the addresses of MOVING ARM-BITS, the xt "
+           "of CONTROL, STOCK-CONTROL")
+
+
 def state_addr(m):
-    hit = m.dictionary.find("CNT-STATE")
-    if hit is None:
-        raise ForthError(-13, "?", "CNT-STATE")
-    return (hit[0] + 2) & MASK
-
-
-def read_counter(board, port):
-    return board.in8(port) | (board.in8(port) << 8)
+    return table(m, "CNT-STATE")
 
 
 @prim("INIT-COUNTERS", "( -- ) program both 8253s (BH 5.2), zero the totals",
@@ -45,10 +69,11 @@ def init_counters(m):
 def read_position(m, wheel):
     """Latch and read one wheel's counters, add the pulses since the last
     read to the 32-bit totals; -> forward minus reverse, as a 32-bit value."""
-    b, base, mem = m.board, BASES[wheel], m.memory
-    b.out8(base + 3, 0x40)
-    b.out8(base + 3, 0x80)
-    now = (read_counter(b, base + 1), read_counter(b, base + 2))
+    base, mem = BASES[wheel], m.memory
+    r = m.board.port_script(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),
+                             (IN8, base + 1, 0), (IN8, base + 1, 0),
+                             (IN8, base + 2, 0), (IN8, base + 2, 0)))
+    now = (r[0] | (r[1] << 8), r[2] | (r[3] << 8))
     a = state_addr(m) + 12 * wheel
     totals = []
     for i in range(2):
@@ -109,13 +134,11 @@ def quiet(m):
     calibrated time): nothing under way that the control word would act on,
     and RCL's own control word is the one on INT 1Ch. Only then is every
     tick's handler known to do nothing but read."""
-    fetch, find = m.memory.fetch, m.dictionary.find
-    body = {name: (find(name)[0] + 2) & MASK
-            for name in ("MOVING", "ARM-BITS", "CONTROL", "STOCK-CONTROL")}
-    control = body["CONTROL"] - 2
-    return fetch(body["MOVING"]) == 0 and fetch(body["ARM-BITS"]) == 0 \
+    fetch, cells = m.memory.fetch, table(m, "IDLE-CELLS")
+    moving, arm_bits, control, stock = (fetch(cells + 2 * i) for i in range(4))
+    return fetch(moving) == 0 and fetch(arm_bits) == 0 \
         and user_tick(m) == (FORTH_CS, control) \
-        and fetch(body["CONTROL"]) == fetch(body["STOCK-CONTROL"])
+        and fetch((control + 2) & MASK) == fetch(stock)
 
 
 @prim("(MS)", "( n -- ) Listing 3's MS in virtual time: 37 primitives a "
@@ -126,17 +149,15 @@ def paren_ms(m):
     n = 1 + 37 * m.s.pop()
     if not ticking(m):
         raise ForthError(-2, "Control loop not running (INSTALL starts it)")
-    c = m.cost[DOCOL]
-    repeat = getattr(m.board, "repeat_idle_ticks", None)
-    if repeat is not None:
-        m.board.handler_cost = None       # trust only a tick timed in this wait
+    c, board = m.cost[DOCOL], m.board
+    board.wait_started()
     while n > 0:
-        if repeat is not None and quiet(m):
-            ticks_before = m.board.ticks
-            left = repeat(n, c)
+        if quiet(m):
+            ticks_before = board.ticks
+            left = board.repeat_idle_ticks(n, c)
             if left == 0:
                 return
-            if m.board.ticks != ticks_before:
+            if board.ticks != ticks_before:
                 n = left
                 continue
         # one tick's worth the ordinary way (it also times the handler)
@@ -151,6 +172,4 @@ def paren_ms(m):
       "INT 1Ch idle (only when nothing moves)", hidden=True, kind="call")
 def skip_to_tick(m):
     hi, lo = m.s.pop(), m.s.pop()
-    skip = getattr(m.board, "skip_to_tick", None)
-    if skip is not None:
-        skip((hi << 16) | lo)
+    m.board.skip_to_tick((hi << 16) | lo)

@@ -1,0 +1,252 @@
+"""The frame protocol between rcl (the host) and a board: framing, CRC, and
+the one declarative table of messages both ends import (docs/protocol.md
+is the specification; this module is its executable form).
+
+    byte  0      1      2      3      4 .. 4+LEN-1    4+LEN   5+LEN
+        +------+------+------+------+---------------+-------+-------+
+        | SYNC | LEN  | SEQ  | TYPE | PAYLOAD (LEN) | CRC hi| CRC lo|
+        +------+------+------+------+---------------+-------+-------+
+    SYNC = 0xA5; LEN = payload bytes (0..MAX_PAYLOAD); CRC-16/CCITT-FALSE
+    (poly 0x1021, init 0xFFFF, no reflection, no final xor) over LEN, SEQ,
+    TYPE and the payload, sent high byte first. check: b"123456789" -> 0x29B1.
+
+Payload fields are little-endian: B (u8), H (u16), I (u32), `s` (the rest
+of the payload as text) and a trailing repeated group, written `*HB` (as
+many (u16, u8) records as the rest of the payload holds).
+"""
+import struct
+
+from rcl.errors import RclError
+
+VERSION = 1                 # protocol version: HELLO and IDENTIFY carry it
+SYNC = 0xA5
+MAX_PAYLOAD = 64          # small, so a corrupted LEN delays the resync little
+HEADER, TRAILER = 4, 2      # SYNC LEN SEQ TYPE, then CRC
+WATCHDOG_MS = 250           # board: no valid frame from the host this long -> safe state
+HEARTBEAT_MS = 50           # board: a HEARTBEAT at least this often when not ticking
+KEEPALIVE_MS = 100          # host: a PING when nothing else was sent this long
+LOST_MS = 250               # host: nothing valid from the board this long -> Link lost
+RETRY_MS = 10               # host: resend a request not answered this long
+
+# The board's safe state (docs/protocol.md "Safe states"): the MOTOR latch
+# all off (both wheels braked and disabled), and on the AUX latch the arm,
+# gripper and beeper bits cleared, the other AUX bits kept.
+SAFE_MOTOR_PORT, SAFE_MOTOR_VALUE = 0x88, 0x00
+SAFE_AUX_PORT, SAFE_AUX_CLEAR = 0x89, 0x07
+
+
+class LinkError(RclError):
+    """The link to a board failed or the board refused us."""
+
+
+class ProtocolError(LinkError):
+    """A frame that does not fit the table (decoding it failed)."""
+
+
+# ------------------------------------------------------------- messages
+class Message:
+    """One row of the table: name, type id, who sends it, whether it is
+    sequenced (acknowledged and retransmitted) and its payload fields."""
+
+    def __init__(self, name, type_id, sender, fields, sequenced=True, doc=""):
+        self.name, self.id, self.sender = name, type_id, sender
+        self.fields = [f.split(":") for f in fields.split()] if fields else []
+        self.sequenced, self.doc = sequenced, doc
+
+    def encode(self, **values):
+        out = bytearray()
+        for name, fmt in self.fields:
+            value = values[name]
+            if fmt == "s":
+                out += value.encode("latin-1")
+            elif fmt.startswith("*"):
+                for record in value:
+                    out += struct.pack("<" + fmt[1:], *record)
+            else:
+                out += struct.pack("<" + fmt, value)
+        if len(out) > MAX_PAYLOAD:
+            raise ProtocolError("%s payload of %d bytes is too long" % (self.name, len(out)))
+        return bytes(out)
+
+    def decode(self, payload):
+        values, at = {}, 0
+        try:
+            for name, fmt in self.fields:
+                if fmt == "s":
+                    values[name], at = payload[at:].decode("latin-1"), len(payload)
+                elif fmt.startswith("*"):
+                    size = struct.calcsize("<" + fmt[1:])
+                    if (len(payload) - at) % size:
+                        raise ProtocolError("%s: ragged records" % self.name)
+                    values[name] = [struct.unpack_from("<" + fmt[1:], payload, i)
+                                    for i in range(at, len(payload), size)]
+                    at = len(payload)
+                else:
+                    values[name] = struct.unpack_from("<" + fmt, payload, at)[0]
+                    at += struct.calcsize("<" + fmt)
+        except struct.error:
+            raise ProtocolError("%s: payload too short" % self.name) from None
+        if at != len(payload):
+            raise ProtocolError("%s: %d bytes too many" % (self.name, len(payload) - at))
+        return values
+
+
+HOST, BOARD = "host", "board"
+
+#   name          id    sender  fields                          sequenced
+TABLE = [
+    Message("HELLO", 0x01, HOST, "version:B", False,
+            "start a session: sequences restart at 1; the board answers IDENTIFY"),
+    Message("OUT8", 0x02, HOST, "port:H value:B", doc="8-bit OUT (PC!); answer ACK"),
+    Message("OUT16", 0x03, HOST, "port:H value:H", doc="16-bit OUT (P!); answer ACK"),
+    Message("IN8", 0x04, HOST, "port:H", doc="8-bit IN (PC@); answer VALUE"),
+    Message("IN16", 0x05, HOST, "port:H", doc="16-bit IN (P@); answer VALUE"),
+    Message("FAR_STORE", 0x06, HOST, "seg:H off:H value:B",
+            doc="store a byte of the board's memory (LC!); answer ACK"),
+    Message("FAR_FETCH", 0x07, HOST, "seg:H off:H",
+            doc="fetch a byte of the board's memory (LC@); answer VALUE"),
+    Message("SNAPSHOT", 0x08, HOST, "ops:*BHB",
+            doc="the per-tick script: (0, port, value) OUT8, (1, port, 0) IN8; answer ACK"),
+    Message("TICK_DONE", 0x09, HOST, "tick:H final:B us:H writes:*HB",
+            doc="the tick handler's OUT8s, in order (final: the handler ended; us: "
+                "its time since the tick so far); answer ACK"),
+    Message("SAFE", 0x0A, HOST, "", doc="safe state now (motors off); answer ACK"),
+    Message("TICK_FAILED", 0x0B, HOST, "",
+            doc="safe state, and timer 0 stops interrupting; answer ACK"),
+    Message("PING", 0x0C, HOST, "", False, doc="keep the watchdog fed; no answer"),
+    Message("RUN", 0x0E, HOST, "ops:*BHB",
+            doc="port operations as one, as SNAPSHOT's; answer RESULTS"),
+    Message("WAIT", 0x0F, HOST, "tick:H", False,
+            doc="the host waits for tick `tick`; a lockstep board lets its time run; no answer"),
+    Message("NAK", 0x0D, HOST, "seq:B", False,
+            doc="board frame `seq` was not received: send it again"),
+    Message("IDENTIFY", 0x81, BOARD, "version:B tick_us:H flags:B name:s", False,
+            doc="answer to HELLO: the board's protocol version, tick period, flags "
+                "(FLAG_LOCKSTEP), name"),
+    Message("ACK", 0x82, BOARD, "ack:B", doc="host frame `ack` was acted on"),
+    Message("VALUE", 0x83, BOARD, "ack:B value:H", doc="host frame `ack` read `value`"),
+    Message("TICK", 0x84, BOARD, "tick:H off:H results:*B",
+            doc="timer 0 ticked, the BIOS counted it, INT 1Ch is FORTH_CS:off; "
+                "the script's IN8 results"),
+    Message("HEARTBEAT", 0x85, BOARD, "time_us:I ticking:B",
+            doc="sent when nothing was sent for HEARTBEAT_MS; ticking: a TICK will come"),
+    Message("RESULTS", 0x87, BOARD, "ack:B results:*B",
+            doc="host frame `ack` (RUN) read these bytes"),
+    Message("REFUSED", 0x86, BOARD, "ack:B reason:s",
+            doc="host frame `ack` could not be acted on (unknown type, bad payload)"),
+]
+BY_NAME = {m.name: m for m in TABLE}
+BY_ID = {m.id: m for m in TABLE}
+FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT (simulated only)
+SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
+
+
+# ---------------------------------------------------------------- frames
+def crc16(data, crc=0xFFFF):
+    """CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, MSB first, no xor out."""
+    for byte in data:
+        crc ^= byte << 8
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1021) if crc & 0x8000 else crc << 1
+        crc &= 0xFFFF
+    return crc
+
+
+def frame(seq, message, /, **values):
+    """The bytes of one frame of `message` (a name in the table)."""
+    msg = BY_NAME[message]
+    payload = msg.encode(**values)
+    body = bytes((len(payload), seq & 0xFF, msg.id)) + payload
+    crc = crc16(body)
+    return bytes((SYNC,)) + body + bytes((crc >> 8, crc & 0xFF))
+
+
+class Frame:
+    """A received frame: seq, the message row, its decoded values."""
+
+    def __init__(self, seq, message, values):
+        self.seq, self.message, self.values = seq, message, values
+
+    @property
+    def name(self):
+        return self.message.name
+
+    def __getitem__(self, key):
+        return self.values[key]
+
+    def __repr__(self):
+        return "Frame(%d, %s, %r)" % (self.seq, self.name, self.values)
+
+
+class FrameReader:
+    """Turns a byte stream into frames. After garbage or a bad CRC it drops
+    one byte and looks for the next SYNC, so it resynchronises on its own;
+    a frame is only ever returned whole and with a good CRC."""
+
+    def __init__(self):
+        self.buf = bytearray()
+        self.bad = 0               # frames rejected: CRC, unknown type, payload
+        self.skipped = 0           # bytes dropped looking for SYNC
+
+    def feed(self, data):
+        """Add received bytes; -> the complete good frames among them."""
+        self.buf += data
+        frames = []
+        while True:
+            got = self._next()
+            if got is None:
+                return frames
+            frames.append(got)
+
+    def _next(self):
+        buf = self.buf
+        while buf:
+            if buf[0] != SYNC:
+                start = buf.find(SYNC)
+                drop = len(buf) if start < 0 else start
+                self.skipped += drop
+                del buf[:drop]
+                continue
+            if len(buf) < 2:
+                return None
+            length = buf[1]
+            if length > MAX_PAYLOAD:
+                self._drop_one()
+                continue
+            end = HEADER + length + TRAILER
+            if len(buf) < end:
+                return None
+            crc = (buf[end - 2] << 8) | buf[end - 1]
+            msg = BY_ID.get(buf[3])
+            if crc != crc16(buf[1:end - 2]) or msg is None:
+                self._drop_one()
+                continue
+            seq, payload = buf[2], bytes(buf[HEADER:end - 2])
+            del buf[:end]
+            try:
+                return Frame(seq, msg, msg.decode(payload))
+            except ProtocolError:
+                self.bad += 1
+        return None
+
+    def _drop_one(self):
+        self.bad += 1
+        self.skipped += 1
+        del self.buf[:1]
+
+
+def following(seq):
+    """The host's next SEQ: 1..255 and round again; 0 is never used, so a
+    frame with SEQ 0 from the host is always an unsequenced one."""
+    return seq % 255 + 1
+
+
+def previous(seq):
+    return 255 if seq == 1 else seq - 1
+
+
+def newer(seq, expected):
+    """Where seq lies from expected, mod 256: 0 is it, 1..127 ahead (a gap),
+    -128..-1 behind (already seen)."""
+    d = (seq - expected) & 0xFF
+    return d - 256 if d >= 128 else d

@@ -1,0 +1,354 @@
+"""The board side of the link: a simulated board (rcl.sim.board.SimBoard)
+paced to the wall clock and serving the frame protocol over a byte stream,
+as board firmware would (docs/protocol.md).
+
+    host frames --> FrameReader --> act (ports, memory, script, safe state)
+                                      |          --> ACK / VALUE / REFUSED
+    wall clock --> BoardClock --> SimBoard.service (timer 0) --> BIOS tick
+                                      --> INT 1Ch in the Forth segment?
+                                      --> run the script --> TICK frame
+
+BoardClock is the machine-side API of rcl/board.py for a board with no
+Forth machine beside it: its clock follows the wall clock, and "running
+the INT 1Ch handler" means sending a TICK to the host, whose Forth runs it.
+Board time runs at `rate` times the wall clock (1: real time; more, for
+quick tests). In lockstep (the default) board time stands still from a
+TICK until the host, its handler done (final TICK_DONE), waits for the
+next one (WAIT): the handler and the host's foreground work between ticks
+take no board time, as in the simulation, where they take microseconds.
+What the served board does then depends on the frames only, not on how
+fast the host or the line is. A real board
+cannot wait; `lockstep=False` (rcl-board --free-running) behaves as one.
+Faults for tests and demonstrations: a byte corruption rate on both
+directions, a cut of the link (silence, or for TCP a closed connection)
+at a time for a time, a stalled wheel.
+"""
+import os
+import random
+import select
+import time
+
+from rcl.board import CLOCK_HZ, FORTH_CS
+from rcl.hw import protocol as P
+from rcl.sim.board import SimBoard
+
+US = CLOCK_HZ // 1_000_000
+PCB_T0_CONTROL, PCB_TIMER_MASK = 0x56, 0x32
+
+
+class BoardMemory:
+    """The 64 KiB at segment FORTH_CS on the board: on a link it is the
+    host's (the host serves those addresses itself), here only a store."""
+
+    def __init__(self):
+        self.mem = bytearray(0x10000)
+
+    def cstore(self, a, byte):
+        self.mem[a & 0xFFFF] = byte & 0xFF
+
+
+class BoardClock:
+    """The board's own time, in CLOCK_HZ units since start, following the
+    wall clock; the machine API a SimBoard needs (rcl/board.py)."""
+
+    waiting_until = None
+    budget_end = float("inf")
+
+    def __init__(self, server, wall=time.monotonic, rate=1.0):
+        self.server, self.wall, self.rate = server, wall, rate
+        self.start = wall()
+        self.held_since = None       # wall time the clock stopped (lockstep)
+        self.clock = 0
+        self.memory = BoardMemory()
+        self.mem = self.memory.mem
+        self.board = None
+
+    def attach(self, board):
+        self.board = board
+
+    def now(self):
+        """Board time now: the wall clock's, less the time held."""
+        if self.held_since is not None:
+            return self.clock
+        return int((self.wall() - self.start) * self.rate * CLOCK_HZ)
+
+    def hold(self):
+        """Stop board time where it is (the host runs this tick's handler)."""
+        self.held_since = self.wall()
+
+    def release(self):
+        """Board time goes on from where it stopped."""
+        if self.held_since is not None:
+            self.start = self.wall() - self.clock / (self.rate * CLOCK_HZ)
+            self.held_since = None
+
+    def catch_up(self, t):
+        self.clock = max(self.clock, t)
+
+    def reschedule(self):
+        pass
+
+    def advance_to(self, t):
+        self.catch_up(t)
+
+    def run_handler(self, xt):
+        """INT 1Ch points into the Forth segment: the host runs it."""
+        self.server.send_tick(xt)
+
+
+class BoardServer:
+    """One simulated board behind one byte stream at a time."""
+
+    def __init__(self, corrupt=0.0, seed=1, cut_at=None, cut_for=None,
+                 version=P.VERSION, name="rcl-board (simulated R-E Robot)", lockstep=True,
+                 rate=1.0):
+        self.clock = BoardClock(self, rate=rate)
+        self.board = SimBoard()
+        self.board.attach(self.clock)
+        self.reader = P.FrameReader()
+        self.random = random.Random(seed)
+        self.corrupt, self.cut_at, self.cut_for = corrupt, cut_at, cut_for
+        self.version, self.name = version, name
+        self.script = []
+        self.expected = 1            # the host's next sequence number
+        self.send_seq = 1
+        self.window = {}             # seq -> frame, for NAK
+        self.last_reply = None
+        self.last_valid = None       # board clock of the last good host frame
+        self.safe = True             # relays forced off by the watchdog
+        self.last_sent = 0.0
+        self.started = time.monotonic()
+        self.lockstep = lockstep     # board time waits for each tick's TICK_DONE
+        self.awaiting = None         # the tick whose handler the host runs (lockstep)
+        self.done = False            # ... and its final TICK_DONE has come
+        self.cutting = False
+        self.watchdog_at = self.last_valid_clock = None   # board times, for tests
+        self.out = bytearray()
+        self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
+                      "watchdog": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
+                      "bytes_out": 0}
+        self.lateness = []           # seconds each tick was serviced after its time
+
+    # ----------------------------------------------------------- the loop
+    def run_until(self, now):
+        """Bring the board to board-clock `now`: each tick at its own time
+        (in lockstep, none while the host has not finished the last)."""
+        b, c = self.board, self.clock
+        while b.due is not None and b.due <= now and self.awaiting is None:
+            c.catch_up(b.due)
+            late = (now - b.due) / CLOCK_HZ
+            self.lateness.append(late)
+            self.stats["late"] += late > 0.002
+            b.service(c)
+        if not self.lockstep:
+            c.catch_up(now)        # (in lockstep the clock moves by ticks and frames only)
+        wall = time.monotonic()
+        self.watchdog(wall)
+        if wall - self.last_sent >= P.HEARTBEAT_MS / 1000:
+            self.send("HEARTBEAT", time_us=(c.clock // US) & 0xFFFFFFFF,
+                      ticking=int(self.ticking()))
+
+    def timeout(self):
+        """Seconds until the board next needs to run (at most 5 ms)."""
+        due = self.board.due
+        if due is None or self.awaiting is not None:
+            return 0.005
+        return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ / self.clock.rate))
+
+    def cut(self):
+        """The link is cut: by cut_link(), or inside the fault option's
+        window (seconds since start)."""
+        if self.cutting:
+            return True
+        if self.cut_at is None:
+            return False
+        t = time.monotonic() - self.started
+        return t >= self.cut_at and (self.cut_for is None or t < self.cut_at + self.cut_for)
+
+    def cut_link(self, cut=True):
+        """Cut the link now (cut=False: mend it); the board goes on."""
+        self.cutting = cut
+
+    def receive(self, data):
+        """Bytes from the host."""
+        self.run_until(self.clock.now())
+        if self.cut():
+            return
+        self.stats["bytes_in"] += len(data)
+        for f in self.reader.feed(self.garble(data)):
+            self.handle(f)
+
+    def take_output(self):
+        """Bytes to send to the host now (nothing while the link is cut)."""
+        data, self.out = bytes(self.out), bytearray()
+        if self.cut():
+            return b""
+        self.stats["bytes_out"] += len(data)
+        return self.garble(data)
+
+    def garble(self, data):
+        if not self.corrupt:
+            return data
+        out = bytearray(data)
+        for i in range(len(out)):
+            if self.random.random() < self.corrupt:
+                out[i] ^= 1 << self.random.randrange(8)
+        return bytes(out)
+
+    # ------------------------------------------------------------ safety
+    def watchdog(self, wall):
+        """No valid frame from the host for WATCHDOG_MS: safe state, and
+        the clock goes on without waiting for the host."""
+        if self.last_valid is not None and not self.safe \
+                and wall - self.last_valid > P.WATCHDOG_MS / 1000:
+            self.board.stop_motors()
+            self.safe = True
+            self.stats["watchdog"] += 1
+            self.watchdog_at = self.clock.now()
+            self.awaiting = None
+            self.clock.release()
+
+    def ticking(self):
+        """Timer 0 interrupts, unmasked, into INT 1Ch in the Forth segment."""
+        b = self.board
+        pcb = b.pcb
+        control = pcb.read16(PCB_T0_CONTROL, b.pcb_time())
+        mask = pcb.read16(PCB_TIMER_MASK, b.pcb_time())
+        return control & 0xA000 == 0xA000 and not mask & 0x8 \
+            and b.vector(0x1C)[0] == FORTH_CS
+
+    # ----------------------------------------------------------- sending
+    def send(self, message, /, seq=None, **values):
+        if seq is None:
+            seq = self.send_seq
+            self.send_seq = (self.send_seq + 1) & 0xFF
+        data = P.frame(seq, message, **values)
+        self.window[seq] = data
+        self.window.pop((seq - 128) & 0xFF, None)
+        self.out += data
+        self.last_sent = time.monotonic()
+        return data
+
+    def send_tick(self, xt):
+        b = self.board
+        results = [(r,) for r in b.port_script(self.script)]
+        self.stats["ticks_sent"] += 1
+        self.last_tick_frame = self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
+        if self.lockstep and not self.safe:
+            self.awaiting, self.done = b.ticks & 0xFFFF, False
+            self.held_at = self.clock.clock
+            self.clock.hold()
+
+    def reply(self, message, /, **values):
+        self.last_reply = self.send(message, **values)
+
+    # ---------------------------------------------------------- receiving
+    def handle(self, f):
+        self.last_valid = time.monotonic()
+        self.last_valid_clock = self.clock.now()
+        self.safe = False
+        if f.name == "HELLO":
+            self.expected, self.send_seq, self.window = 1, 1, {}
+            self.awaiting = None
+            self.clock.release()
+            self.out += P.frame(0, "IDENTIFY", version=self.version, tick_us=10_000,
+                                flags=P.FLAG_LOCKSTEP if self.lockstep else 0, name=self.name)
+            return
+        if f.name == "PING":
+            return
+        if f.name == "WAIT":
+            if self.awaiting is None:
+                return
+            if self.done and f["tick"] == (self.awaiting + 1) & 0xFFFF:
+                self.awaiting, self.done = None, False
+                self.clock.release()
+            elif f["tick"] == self.awaiting:            # the host never got that TICK
+                self.out += self.last_tick_frame
+            return
+        if f.name == "NAK":
+            self.stats["naks"] += 1
+            if f["seq"] in self.window:           # that one frame again (selective repeat)
+                self.out += self.window[f["seq"]]
+            return
+        if f.name == "SAFE":                      # idempotent: acted on whatever its SEQ
+            self.board.stop_motors()
+        if f.seq == P.previous(self.expected):
+            self.stats["duplicates"] += 1
+            if self.last_reply is not None:
+                self.out += self.last_reply       # our answer was lost: again
+            return
+        if f.seq != self.expected:
+            return                                # not ours to take (SEQ 0: unsequenced)
+        self.expected = P.following(self.expected)
+        if f.message.sender != P.HOST:
+            self.stats["refused"] += 1
+            self.reply("REFUSED", ack=f.seq, reason="not a host message")
+            return
+        self.stats["acted"] += 1
+        self.act(f)
+
+    def act(self, f):
+        if self.awaiting is None:                  # not held: the frame's own moment
+            self.clock.catch_up(self.clock.now())
+        b, v = self.board, f.values
+        name = f.name
+        if name == "OUT8":
+            b.out8(v["port"], v["value"])
+        elif name == "OUT16":
+            b.out16(v["port"], v["value"])
+        elif name == "IN8":
+            return self.reply("VALUE", ack=f.seq, value=b.in8(v["port"]))
+        elif name == "IN16":
+            return self.reply("VALUE", ack=f.seq, value=b.in16(v["port"]))
+        elif name == "FAR_STORE":
+            b.far_store8(v["seg"], v["off"], v["value"])
+        elif name == "FAR_FETCH":
+            return self.reply("VALUE", ack=f.seq, value=b.far_fetch8(v["seg"], v["off"]))
+        elif name == "RUN":
+            results = [(r,) for r in b.port_script(v["ops"])]
+            return self.reply("RESULTS", ack=f.seq, results=results)
+        elif name == "SNAPSHOT":
+            self.script = list(v["ops"])
+        elif name == "TICK_DONE":
+            if self.awaiting == v["tick"] and not self.done:   # held: the handler's own time
+                due = b.due if b.due is not None else float("inf")
+                self.clock.catch_up(min(self.held_at + v["us"] * US, due))
+            for port, value in v["writes"]:
+                b.out8(port, value)
+            if v["final"] and v["tick"] == self.awaiting:
+                self.done = True
+        elif name == "SAFE":
+            b.stop_motors()
+        elif name == "TICK_FAILED":               # no TICK_DONE will come for this tick
+            b.tick_failed()
+            self.awaiting, self.done = None, False
+            self.clock.release()
+        self.reply("ACK", ack=f.seq)
+
+    # ------------------------------------------------------------ serving
+    def serve_fd(self, fd, stop, on_idle=None):
+        """Serve the stream on file descriptor fd until stop() is true or
+        the peer goes away (-> "closed"); a pty's master reads EIO while
+        no one has the device open, which is waited out."""
+        while not stop():
+            r, _, _ = select.select([fd], [], [], self.timeout())
+            if r:
+                try:
+                    data = os.read(fd, 4096)
+                except OSError:                   # pty: nobody on the other end
+                    data = None
+                    time.sleep(0.005)
+                if data == b"":
+                    return "closed"
+                if data:
+                    self.receive(data)
+            self.run_until(self.clock.now())
+            if self.cut() and on_idle == "close":
+                return "cut"
+            out = self.take_output()
+            if out:
+                try:
+                    os.write(fd, out)
+                except OSError:
+                    pass
+        return "stopped"

@@ -1,0 +1,1 @@
+"""pyserial URL handlers of rcl (found by module name: protocol_<scheme>)."""

@@ -1,0 +1,86 @@
+"""The board seam (rcl/board.py): one interface that every board
+implements, a machine that owns its clock, and CODE words that find RCL's
+variables through what the screens hand them, not by name."""
+import ast
+import pathlib
+
+import rcl
+from rcl.board import Board, NullBoard
+from rcl.sim.board import SimBoard
+from rcl.words.rclcode import quiet
+
+ROOT = pathlib.Path(rcl.__file__).parent
+HOOKS = ("out8", "in8", "out16", "in16", "far_fetch8", "far_store8", "attach",
+         "service", "stop_motors", "tick_failed", "reconnect", "wait_started",
+         "repeat_idle_ticks", "skip_to_tick", "trace", "status")
+
+
+def imports_of(path):
+    names = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            names.append(node.module)
+        elif isinstance(node, ast.Import):
+            names.extend(a.name for a in node.names)
+    return names
+
+
+def test_the_board_packages_import_nothing_of_the_forth_machine():
+    for package in ("sim", "hw"):
+        for path in (ROOT / package).glob("*.py"):
+            for name in imports_of(path):
+                assert not name.startswith(("rcl.forth", "rcl.words")), (path, name)
+
+
+def test_every_hook_has_a_documented_default_on_the_interface():
+    for name in HOOKS:
+        assert name in Board.__dict__, name
+        assert name in Board.__doc__, name
+    assert Board.ticks == 0 and Board.due is None
+
+
+def test_no_board_assigns_the_machine_clock():
+    for package in ("sim", "hw"):
+        for path in (ROOT / package).glob("*.py"):
+            text = path.read_text()
+            assert "m.clock =" not in text and "machine.clock =" not in text, path
+
+
+def test_a_board_declining_every_time_shortcut_gives_the_same_wait():
+    plain = rcl.open()
+    plain.evaluate("250 MS")
+    declining = rcl.open()
+    declining.sim.board.repeat_idle_ticks = Board.repeat_idle_ticks.__get__(declining.sim.board)
+    declining.sim.board.skip_to_tick = Board.skip_to_tick.__get__(declining.sim.board)
+    declining.evaluate("250 MS")
+    assert declining.clock == plain.clock
+
+
+def test_the_counter_words_find_their_state_when_the_name_means_something_else():
+    m = rcl.open()
+    m.evaluate("RERB 1 FEET FORWARD")
+    before = m.evaluate("?CNT1 D.")
+    m.evaluate("VARIABLE CNT-STATE  12345 CNT-STATE !  VARIABLE MOVING  -1 MOVING !")
+    assert m.evaluate("?CNT1 D.") == before
+    assert quiet(m)           # (MS)'s IDLE? still reads RCL's own MOVING
+
+
+def test_the_null_board_floats_and_declines_everything():
+    m = rcl.Forth()
+    assert isinstance(m.board, NullBoard)
+    assert m.evaluate("HEX 80 PC@ .") == "FF "
+    assert m.board.repeat_idle_ticks(7, 1) == 7
+    assert m.board.reconnect() == "No link to reconnect"
+
+
+def test_catch_up_moves_the_clock_forward_only():
+    m = rcl.open()
+    now = m.clock
+    m.catch_up(now - 5)
+    assert m.clock == now
+    m.catch_up(now + 5)
+    assert m.clock == now + 5
+
+
+def test_the_sim_board_is_an_implementation_of_the_interface():
+    assert issubclass(SimBoard, Board)

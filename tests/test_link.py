@@ -1,0 +1,181 @@
+"""RCL over the frame protocol to a simulated board served in this process
+(rclsim://, the same BoardServer that rcl-board serves): the board's ticks
+are the clock, a corrupted line changes nothing, a cut link stops the word
+and comes back, and a board of another protocol version is refused."""
+import collections
+import time
+
+import pytest
+
+import rcl
+from rcl.board import CLOCK_HZ
+from rcl.hw.protocol import LinkError
+
+LEGS = "RERB 6 INCHES FORWARD 90 DEGREES LEFT 6 INCHES FORWARD"
+
+
+@pytest.fixture
+def linked():
+    machines = []
+
+    def open_link(url="rclsim://?rate=4"):
+        m = rcl.open(port=url)
+        machines.append(m)
+        return m
+    yield open_link
+    for m in machines:
+        m.board.close()
+
+
+def plain(program):
+    m = rcl.open()
+    m.evaluate(program)
+    return m.sim.wheel_counts
+
+
+def near(counts, expected, tolerance=2):
+    return all(abs(a - b) <= tolerance for a, b in zip(counts, expected))
+
+
+def writes_by_port(pairs):
+    log = collections.defaultdict(list)
+    for port, value in pairs:
+        if port < 0xFF00:
+            log[port].append(value)
+    return dict(log)
+
+
+def wait_for(condition, seconds=3.0):
+    end = time.monotonic() + seconds
+    while not condition() and time.monotonic() < end:
+        time.sleep(0.01)
+    return condition()
+
+
+def test_waiting_words_wait_for_the_boards_ticks(linked):
+    m = linked()
+    before = m.board.ticks
+    out = m.evaluate("TICKS@ 100 MS TICKS@ 2SWAP D- D.")
+    assert out.strip() in ("9", "10", "11")     # BIOS ticks counted by the board, within one
+    assert m.board.ticks - before >= 10                  # each one a TICK frame run here
+
+
+def test_one_percent_corruption_each_way_changes_no_count_and_acts_on_no_bad_frame(linked):
+    clean = linked("rclsim://?rate=8")
+    clean.evaluate(LEGS)
+    m = linked("rclsim://?rate=8&corrupt=0.01&seed=3")
+    m.evaluate(LEGS)
+    server = m.board.port.server
+    assert m.sim.wheel_counts == clean.sim.wheel_counts          # the same counts
+    assert near(m.sim.wheel_counts, plain(LEGS))
+    assert server.reader.bad > 0 and m.board.retries > 0      # the line really was bad
+    board_writes = writes_by_port((p, v) for _, p, v in server.board.port_log)
+    unrun = server.stats["ticks_sent"] - m.board.ticks - m.board.skipped
+    for latch in (0x83, 0x87):                  # ticks sent that the host has not run yet
+        assert board_writes[latch][len(board_writes[latch]) - 2 * unrun:] == [0x40, 0x80] * unrun
+        del board_writes[latch][len(board_writes[latch]) - 2 * unrun:]
+    assert board_writes == writes_by_port(m.board.sent_writes)
+
+
+def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_within_250_ms(linked):
+    m = linked("rclsim://")
+    server = m.board.port.server
+    m.evaluate(": LEG  RERB 3 INCHES FORWARD ;")
+
+    def cut_mid_move(board, done=[]):
+        if not done and board.drive.left.position > 150:
+            done.append(True)
+            server.cut_link()
+    server.board.observers.append(cut_mid_move)
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("RERB 2 FEET FORWARD")
+    assert e.value.screen() == " Link lost "
+    assert wait_for(lambda: server.stats["watchdog"] == 1)
+    assert server.board.motor_latch == 0
+    assert server.watchdog_at - server.last_valid_clock <= CLOCK_HZ // 4
+    server.board.observers.clear()
+    assert m.evaluate("RECONNECT").startswith(" Link lost")     # still cut
+    server.cut_link(False)
+    assert m.evaluate("RECONNECT").startswith(" Link up")
+    start = m.sim.wheel_counts
+    m.evaluate("LEG")                                             # the definition survived
+    assert [b - a for a, b in zip(start, m.sim.wheel_counts)] == [84, 84] or \
+        all(80 <= b - a <= 88 for a, b in zip(start, m.sim.wheel_counts))
+
+
+def test_a_board_of_another_protocol_version_is_refused_naming_both():
+    with pytest.raises(LinkError) as e:
+        rcl.open(port="rclsim://?version=2")
+    assert "protocol version 2" in str(e.value) and "version 1" in str(e.value)
+
+
+def test_garbage_on_the_line_both_ways_crashes_neither_side(linked):
+    m = linked()
+    server = m.board.port.server
+    noise = b"ATZ\r\n+++\x1b[2J\xa5\x40\xa5\xa5" + bytes(range(256))
+    m.board.send(noise)                          # to the board, as a terminal would
+    server.out += noise                          # and to the host
+    m.evaluate(LEGS)
+    assert near(m.sim.wheel_counts, plain(LEGS))
+    assert server.reader.skipped > 0
+
+
+def test_a_fault_in_the_tick_handler_stops_the_boards_tick(linked):
+    m = linked()
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate(": BAD  DROP ;  ' BAD IS CONTROL  100 MS")
+    assert "tick handler CONTROL (BAD)" in e.value.message
+    server = m.board.port.server
+    assert wait_for(lambda: not server.ticking() and server.board.motor_latch == 0)
+    m.evaluate("INSTALL 20 MS")                  # INSTALL starts it again
+    assert server.ticking()
+
+
+def test_unknown_url_options_are_refused_with_the_format():
+    with pytest.raises(LinkError) as e:
+        rcl.open(port="rclsim://?speed=3")
+    assert "rclsim://[?corrupt=RATE" in str(e.value)
+
+
+def test_a_move_over_usb_runs_through_pyusb_to_the_simulated_usb_board(linked):
+    m = rcl.open(usb="sim")
+    try:
+        m.evaluate("RERB 6 INCHES FORWARD")
+        assert near(m.sim.wheel_counts, plain("RERB 6 INCHES FORWARD"))
+        assert m.board.port.portstr == "usb:1209:0001"
+    finally:
+        m.board.close()
+
+
+def test_the_simulated_usb_board_is_listed_as_a_usb_board():
+    from rcl.hw.usb import SimBoardBackend, list_usb
+    assert list_usb(SimBoardBackend()) == ["usb 1209:0001  rcl simulated R-E Robot board"]
+
+
+def test_a_usb_id_that_is_not_hex_is_refused_with_the_format():
+    with pytest.raises(LinkError) as e:
+        rcl.open(usb="robot")
+    assert "VID:PID in hex" in str(e.value)
+
+
+def test_ctrl_c_during_a_move_on_a_link_opens_the_boards_relays(linked):
+    m = linked("rclsim://")
+    server = m.board.port.server
+
+    def break_mid_move(board, done=[]):
+        if not done and board.drive.left.position > 150:
+            done.append(True)
+            m.request_break()
+    server.board.observers.append(break_mid_move)
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("RERB 2 FEET FORWARD")
+    assert e.value.message == "Interrupted"
+    assert wait_for(lambda: server.board.motor_latch == 0)
+    assert server.stats["watchdog"] == 0          # the host said SAFE itself
+
+
+def test_sequence_numbers_wrap_past_255_without_losing_a_request(linked):
+    m = linked()
+    m.evaluate(": PEEKS  0 DO  138 PC@ DROP  LOOP ;  600 PEEKS")
+    assert m.board.retries == 0 and m.board.port.server.stats["duplicates"] == 0
+    assert m.board.seq == m.board.port.server.expected != 0
