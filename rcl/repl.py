@@ -97,7 +97,7 @@ class Repl:
         self.m, self.out = m, out
         self.bell = bell
         self.status = None
-        if term is None and hasattr(m, "sim") and shows_status(out):
+        if term is None and (hasattr(m, "sim") or m.board.status()) and shows_status(out):
             lock = threading.RLock()
             out.stream = status.LockedStream(out.stream, lock)
             self.status = status.StatusLine(m, out.stream, lock, bell, self.catch_up)

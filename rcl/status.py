@@ -59,8 +59,27 @@ def sounding(board):
     return bool(board.beeps) and board.beeps[-1][1] is None
 
 
+def linked_text(m):
+    """On a board over a link, from what the host has without asking the
+    board (this runs beside the word running, which owns the link): RCL's
+    own pose (its dead reckoning after each move), the move, the stack, and
+    the link's state."""
+    x, y = (fetch_var(m, name, True) for name in ("POSE-X", "POSE-Y"))
+    heading = fetch_var(m, "POSE-HEADING")
+    parts = [m.board.status()]
+    if None not in (x, y, heading):
+        signed = [v - (1 << 32) if v >> 31 else v for v in (x, y)]
+        parts.append("x %.1f y %.1f in  heading %.1f (RCL's)"
+                     % (signed[0] / 1000, signed[1] / 1000, heading / 10))
+    parts += [move_text(m), "stack %d" % len(m.s)]
+    return "  ".join(p for p in parts if p)
+
+
 def text(m):
-    """The status line of machine m (with `.sim`, a simulated board)."""
+    """The status line of machine m: a simulated board's own observation
+    (`.sim`), else what the host knows of a board over a link."""
+    if not hasattr(m, "sim"):
+        return linked_text(m)
     sim = m.sim
     x, y, heading = sim.pose
     parts = [time_of_day(sim.board),
@@ -99,7 +118,7 @@ class StatusLine:
         self.m, self.stream, self.lock, self.bell = m, stream, lock, bell
         self.on_idle = on_idle            # called before a drawing at the prompt
         self.rows = 0
-        self.beeps_seen = len(m.sim.board.beeps)
+        self.beeps_seen = self.beeps()
         self.running = None               # (stop event, thread) while a word runs
 
     def size(self):
@@ -145,8 +164,13 @@ class StatusLine:
         except Exception:                        # a half-changed state: skip this one
             return ""
 
+    def beeps(self):
+        """Beeps so far (a linked board's are not seen from here)."""
+        sim = getattr(self.m, "sim", None)
+        return len(sim.board.beeps) if sim is not None else 0
+
     def new_beep(self):
-        n = len(self.m.sim.board.beeps)
+        n = self.beeps()
         rang, self.beeps_seen = n > self.beeps_seen, n
         return rang
 

@@ -1,5 +1,7 @@
 """The prompt's status line text (rcl/status.py), read off a running
 system: time of day, pose, move progress, arm, jaw, stack depth, beep."""
+import re
+
 import pytest
 
 import rcl
@@ -51,3 +53,14 @@ def test_status_shows_an_arm_move_and_the_heights_after_it():
     m.evaluate("ARM-BITS OFF ARM 3.1 INCHES DOWN")
     assert m.sim.arm == pytest.approx(4.9, abs=0.02)           # 8.0 - 3.1 (reference 7.1)
     assert "arm %.2f jaw 0.00 in" % m.sim.arm in status.text(m)
+
+
+def test_status_on_a_linked_board_shows_the_link_and_rcls_own_pose():
+    m = rcl.open(port="rclsim://?rate=4")
+    try:
+        m.evaluate("RERB 2 MPH 1 FEET FORWARD .POSE")
+        line = status.linked_text(m)
+        assert line.startswith("link up: rcl-board (simulated R-E Robot), ")
+        assert re.search(r"  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 0$", line)
+    finally:
+        m.board.close()
