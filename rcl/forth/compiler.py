@@ -45,7 +45,7 @@ from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args, rt_push
 DOCOL_N = N["(DOCOL)"]
 HELPERS = {}                 # functions inline templates may call, by name
 
-MAX_INSTRUCTIONS = 4000
+GROUP = 32                   # blocks per group of guards in a long definition
 PURE_FORBIDDEN = ("mem", "m.", "rs", "W[", "s.")
 
 
@@ -118,13 +118,12 @@ def decode(m, ip):
 
 
 def walk(m, entry):
-    """All instructions reachable from entry, by address; None if too many."""
+    """All instructions reachable from entry, by address, and the addresses
+    where blocks start."""
     code, todo, targets = {}, [entry], {entry}
     while todo:
         ip = todo.pop()
         while ip not in code:
-            if len(code) >= MAX_INSTRUCTIONS:
-                return None, None
             ins = decode(m, ip)
             code[ip] = ins
             if ins.target is not None:
@@ -269,13 +268,34 @@ class Gen:
         return (ins.cost, p.fn, ())
 
     # --------------------------------------------------------- terminators
-    def jump(self, addr, ind):
-        self.emit("b = %d; continue" % self.index[addr], ind)
+    def jump_text(self, addr, k):
+        """The statement that goes on at addr from block k. A forward jump
+        only sets b and falls down through the guards (each fails until
+        block b's); a backward one must go round the loop."""
+        j = self.index[addr]
+        return "b = %d" % j if j > k else "b = %d; continue" % j
+
+    def jump(self, addr, k, ind):
+        self.emit(self.jump_text(addr, k), ind)
 
     def goto_next(self, k, addr, ind):
         """Continue at addr: fall into block k+1 or jump."""
         if self.index.get(addr) != k + 1:
-            self.jump(addr, ind)
+            self.jump(addr, k, ind)
+
+    def branch(self, cond, addr, k, nxt, ind, stmt=None, other=None):
+        """If cond: stmt, go to addr; else: other, go on at nxt. A forward
+        jump falls through the guards, so the other way must be an else."""
+        taken = (stmt + "; " if stmt else "") + self.jump_text(addr, k)
+        self.emit("if %s: %s" % (cond, taken), ind)
+        rest = [other] if other else []
+        if self.index.get(nxt) != k + 1:
+            rest.append(self.jump_text(nxt, k))
+        if rest and self.index[addr] > k:
+            self.emit("else:", ind)
+            ind += 1
+        for line in rest:
+            self.emit(line, ind)
 
     def call_tail(self, ins, k, ind):
         ret = ins.next
@@ -296,32 +316,29 @@ class Gen:
         elif op == "?BRANCH":
             (f,) = self.take(1, ind)
             self.flush(ind)
-            self.emit("if %s == 0: b = %d; continue" % (f, self.index[ins.target]), ind)
-            self.goto_next(k, ins.next, ind)
+            self.branch("%s == 0" % f, ins.target, k, ins.next, ind)
         elif op in ("(DO)", "(?DO)"):
             limit, start = self.take(2, ind)
             self.flush(ind)
+            i2 = ind
             if op == "(?DO)":
-                self.emit("if %s == %s: b = %d; continue"
-                          % (start, limit, self.index[ins.target]), ind)
-            self.emit("_l = (%s + 0x8000) & 0xFFFF" % limit, ind)
-            self.emit("rs.extend((%d, _l, (%s - _l) & 0xFFFF))" % (ins.target, start), ind)
-            self.goto_next(k, ins.next, ind)
+                self.emit("if %s == %s: %s" % (start, limit, self.jump_text(ins.target, k)), ind)
+                self.emit("else:", ind)
+                i2 = ind + 1
+            self.emit("_l = (%s + 0x8000) & 0xFFFF" % limit, i2)
+            self.emit("rs.extend((%d, _l, (%s - _l) & 0xFFFF))" % (ins.target, start), i2)
+            self.goto_next(k, ins.next, i2)
         elif op == "(LOOP)":
             self.flush(ind)
             self.emit("_x = rs[-1]", ind)
-            self.emit("if _x != 0x7FFF: rs[-1] = _x + 1 & 0xFFFF; b = %d; continue"
-                      % self.index[ins.target], ind)
-            self.emit("del rs[-3:]", ind)
-            self.goto_next(k, ins.next, ind)
+            self.branch("_x != 0x7FFF", ins.target, k, ins.next, ind,
+                        "rs[-1] = _x + 1 & 0xFFFF", "del rs[-3:]")
         elif op == "(+LOOP)":
             (n,) = self.take(1, ind)
             self.flush(ind)
             self.emit("_y = ((rs[-1] ^ 0x8000) - 0x8000) + ((%s ^ 0x8000) - 0x8000)" % n, ind)
-            self.emit("if -0x8000 <= _y <= 0x7FFF: rs[-1] = _y & 0xFFFF; b = %d; continue"
-                      % self.index[ins.target], ind)
-            self.emit("del rs[-3:]", ind)
-            self.goto_next(k, ins.next, ind)
+            self.branch("-0x8000 <= _y <= 0x7FFF", ins.target, k, ins.next, ind,
+                        "rs[-1] = _y & 0xFFFF", "del rs[-3:]")
         elif op in ("(LEAVE)", "(?LEAVE)"):
             i2 = ind
             if op == "(?LEAVE)":
@@ -402,8 +419,6 @@ class Gen:
 
     def build(self):
         code, targets = walk(self.m, self.entry)
-        if code is None:
-            return None, ()
         starts = sorted(a for a in targets if a in code)
         self.index = {a: i for i, a in enumerate(starts)}
         self.emit("def f(m):", 0)
@@ -422,8 +437,13 @@ class Gen:
                 if ip in self.index or ip not in code:
                     break
             self.next_addr = ip if term is None else None
-            self.emit("if b <= %d:   # %04X" % (k, a), 2)
-            self.block(k, ops, term, 3)
+            ind = 2
+            if len(starts) > GROUP:          # a jump passes a guard per group, then per block
+                if k % GROUP == 0:
+                    self.emit("if b <= %d:" % min(k + GROUP - 1, len(starts) - 1), 2)
+                ind = 3
+            self.emit("if b <= %d:   # %04X" % (k, a), ind)
+            self.block(k, ops, term, ind + 1)
         self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2)
         body = "\n".join(self.lines[2:])
         locals_ = ["%s = %s" % (n, v) for n, v in (("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"),
@@ -457,10 +477,6 @@ def compile_code(m, entry):
     """Compile the threaded code at entry; returns the Python function."""
     gen = Gen(m, entry)
     src, marks = gen.build()
-    if src is None:
-        def f(m, entry=entry):
-            return m.run_from(entry, len(m.rs))
-        return f
     env = dict(gen.consts)
     env.update(HELPERS)
     env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
