@@ -1,52 +1,76 @@
 """Threaded code compiled to Python: the fast path of the inner interpreter.
 
-A definition's threaded code is cut into basic blocks: straight runs of
-simple primitives, each ended by a terminator (branch, loop, call, EXIT)
-or by the start of another block. Each block becomes Python code in one
-function per definition:
+Follow one colon definition from source to what runs (the tour takes a
+few minutes with a machine at hand):
 
-    def f(m):                          # : COUNTDOWN  BEGIN 1- DUP 0= UNTIL ;
-        s = m.s; rs = m.rs; ...
+    >>> m = rcl.Forth()
+    >>> m.evaluate(": COUNTDOWN  BEGIN 1- DUP 0= UNTIL ;")
+    >>> print(rcl.forth.compiler.source(m, "COUNTDOWN"))
+
+1. The outer interpreter (outer.py) lays down threaded code, one cell per
+   word: | 1- | DUP | 0= | ?BRANCH | target | EXIT |.
+2. The first call of COUNTDOWN (Inner.enter) finds no compiled function
+   for its body and calls `compile_code`: `walk` decodes every reachable
+   cell into an `Instr` and notes where blocks start (entry, branch targets,
+   the cell after a call); `Gen.build` writes one Python function.
+3. A block is a straight run of simple primitives ended by a terminator:
+   a control operation (control.py: each has its reference function, used
+   by run_from, next to its code generator) or a call. What it prints:
+
+    def f(m):
+        s = m.s; rs = m.rs; d0 = len(rs)    # only the locals the code uses
         b = 0
         while True:
-            if b <= 0:                 # block 0: 1- DUP 0= ?BRANCH
-                if m.clock + PRE >= m.deadline:
-                    slow(m, SEQ0)      # exact: one primitive at a time
-                    ...terminator on the real stack...
+            if b <= 0:   # 145A              # block 0: 1- DUP 0= ?BRANCH
+                if m.clock + 3000000 >= m.deadline:
+                    slow(m, SEQ0, 1000000)   # exact: one primitive at a time
+                    t1 = s.pop()
+                    if t1 == 0: b = 0; continue
                 else:
-                    m.clock += COST    # the whole block's cost at once
-                    t1 = s.pop(); t2 = (t1 - 1) & 0xFFFF
-                    t3 = 0xFFFF if t2 == 0 else 0
-                    s.append(t2)
-                    if t3 == 0: b = 0; continue
-            if b <= 1:                 # block 1: EXIT
+                    m.clock += 4000000       # the whole block's cost at once
+                    t2 = s.pop()
+                    t3 = (t2 - 1) & 0xFFFF
+                    t4 = 0xFFFF if t3 == 0 else 0
+                    s.append(t3)
+                    if t4 == 0: b = 0; continue
+            if b <= 1:   # 1464              # block 1: EXIT
                 ...
                 return rs.pop()
 
 The clever part, explained once: inside a block the data stack is kept in
 Python locals (`vs`, a list of names or constants standing for the top
 cells); only at a block's end, or before anything that looks at the real
-stack, are they written back. Guards `if b <= k` let a block fall into the
-next one with a single comparison, while a jump sets b and goes round.
+stack, are they written back. Simple primitives are pasted from their
+inline templates (primitives.Template, parsed once at registration), and
+an output over constants is computed at compile time (`2 3 +` is `5`).
+
+Jumps: the guard `if b <= k` lets a block fall into the next one with one
+comparison. A forward jump only sets b and falls down through the guards
+(each fails until block b's); a backward jump sets b and goes round the
+`while`. In a long definition the guards are grouped by 32, so a jump
+passes at most a guard per group and 32 within its group.
 
 Exactness: a block runs fast only if no interrupt or housekeeping falls due
 before its last primitive; otherwise `slow` runs it one primitive at a
 time, checking before each, so interrupts fire between exactly the same
-primitives as in the reference loop.
+primitives as in the reference loop (a Ctrl-C sets the deadline to -1, so
+the next block takes the slow path and stops at its first primitive).
+
+Calls: a colon word's function is called as Python (return address pushed
+on the real return stack, checked against what EXIT returns: see inner.py).
 
 Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
 the next call). A definition already running finishes in its old form.
 """
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
-from rcl.forth.primitives import DEFAULT_COST, REGISTRY
-from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args, rt_push
+from rcl.forth.primitives import DEFAULT_COST, HELPERS, REGISTRY
+from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.forth.inner import COMPILED, CONTROL, N, RSTACK_CELLS, decode_args, rt_push
 
 DOCOL_N = N["(DOCOL)"]
-HELPERS = {}                 # functions inline templates may call, by name
 
 GROUP = 32                   # blocks per group of guards in a long definition
-PURE_FORBIDDEN = ("mem", "m.", "rs", "W[", "s.")
 
 
 def slow(m, seq, term_cost):
@@ -80,10 +104,8 @@ class Instr:
 
 NO_TERMINATOR = Instr(0, 0, None, (), 0, 0)   # a block that just runs into the next
 
-TERMINATORS = {"EXIT", "BRANCH", "?BRANCH", "(DO)", "(?DO)", "(LOOP)", "(+LOOP)",
-               "(LEAVE)", "(?LEAVE)", "(DOES>)", "EXECUTE", "colon", "does",
-               "defer", "call", "bad"}
-NO_FALLTHROUGH = {"EXIT", "BRANCH", "(LEAVE)", "(DOES>)"}
+TERMINATORS = set(CONTROL_OPS) | {"colon", "does", "defer", "call", "bad"}
+NO_FALLTHROUGH = {op.name for op in CONTROL_OPS.values() if not op.falls_through}
 RUNTIME_KINDS = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
                  N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
                  N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}
@@ -101,13 +123,13 @@ def decode(m, ip):
     if p is None:
         return Instr(ip, xt, "bad", (), nxt, DEFAULT_COST)
     cost = m.cost[cf]
-    name = CONTROL.get(cf)
-    if name is not None:
+    op = CONTROL.get(cf)
+    if op is not None:
         target = None
-        if name in ("BRANCH", "?BRANCH", "(DO)", "(?DO)", "(LOOP)", "(+LOOP)"):
+        if op.target:
             target = fetch(nxt)
             nxt = (nxt + 2) & MASK
-        return Instr(ip, xt, name, (), nxt, cost, p, target)
+        return Instr(ip, xt, op.name, (), nxt, cost, p, target)
     if p.kind == "literal":
         args, nxt = decode_args(m, p, nxt)
         return Instr(ip, xt, "literal", args, nxt, cost, p)
@@ -137,6 +159,9 @@ def walk(m, entry):
     return code, targets
 
 
+# The locals a compiled function may bind, in order, and what they hold.
+PROLOGUE = (("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"), ("W", "m.watch"), ("d0", "len(rs)"))
+
 # An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
 WIDE_DPL = "wide"
 
@@ -151,6 +176,7 @@ class Gen:
         self.ntemp = 0
         self.vs = []
         self.dpl = None
+        self.uses = set()
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -162,8 +188,11 @@ class Gen:
         self.ntemp += 1
         return "t%d" % self.ntemp
 
-    def emit(self, line, ind):
+    def emit(self, line, ind, *uses):
+        """Add a line; `uses` are the prologue's locals it names (s, rs,
+        mem, W, d0), recorded so the prologue binds just those."""
         self.lines.append("    " * ind + line)
+        self.uses.update(uses)
 
     def take(self, n, ind):
         """n input atoms, deepest first, loading from the real stack."""
@@ -174,7 +203,7 @@ class Gen:
         loaded = []
         for _ in range(n - len(have)):
             t = self.temp()
-            self.emit("%s = s.pop()" % t, ind)
+            self.emit("%s = s.pop()" % t, ind, "s")
             loaded.insert(0, t)
         return loaded + have
 
@@ -185,41 +214,38 @@ class Gen:
             wide = self.dpl == WIDE_DPL
             for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
                          (self.m.a_wide, MASK if wide else 0)):
-                self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind)
+                self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
             self.dpl = None
 
     def flush(self, ind):
         self.flush_dpl(ind)
         if len(self.vs) == 1:
-            self.emit("s.append(%s)" % self.vs[0], ind)
+            self.emit("s.append(%s)" % self.vs[0], ind, "s")
         elif self.vs:
-            self.emit("s.extend((%s))" % ", ".join(self.vs), ind)
+            self.emit("s.extend((%s))" % ", ".join(self.vs), ind, "s")
         self.vs = []
 
     # --------------------------------------------------------- simple ops
     def op_inline(self, p, ind):
-        inputs, outputs = p.inline[0].split(), p.inline[1]
-        stmt = p.inline[2] if len(p.inline) > 2 else None
+        """Paste p's parsed template: inputs taken as atoms, outputs kept as
+        atoms; an output over numbers only is computed now (folded)."""
+        tpl = p.template
         if p.touches_memory:
             self.flush_dpl(ind)
-        atoms = self.take(len(inputs), ind)
-        env = dict(zip(inputs, atoms))
-        outs = [outputs] if isinstance(outputs, str) else list(outputs)
-        if stmt:
-            for line in stmt.split("\n"):
-                self.emit(subst(line, env), ind)
-        pure = all(a.lstrip("-").isdigit() for a in atoms) and not stmt
-        for o in outs:
-            if o in env:
-                self.vs.append(env[o])
-                continue
-            text = subst(o, env)
-            if pure and not any(f in o for f in PURE_FORBIDDEN):
-                self.vs.append(str(eval(text, dict(HELPERS))))
-                continue
-            t = self.temp()
-            self.emit("%s = %s" % (t, text), ind)
-            self.vs.append(t)
+        atoms = self.take(len(tpl.inputs), ind)
+        if tpl.stmt:
+            for line in tpl.stmt.fill(atoms).split("\n"):
+                self.emit(line, ind, *tpl.stmt.uses)
+        numbers = tpl.stmt is None and all(a.isdigit() for a in atoms)
+        for o in tpl.outputs:
+            if o.input is not None:
+                self.vs.append(atoms[o.input])
+            elif numbers and o.fold is not None:
+                self.vs.append(str(o.fold(*map(int, atoms))))
+            else:
+                t = self.temp()
+                self.emit("%s = %s" % (t, o.fill(atoms)), ind, *o.uses)
+                self.vs.append(t)
 
     def op_simple(self, ins, ind):
         p, op = ins.prim, ins.op
@@ -241,14 +267,14 @@ class Gen:
             cell = "(mem[%d] | (mem[%d] << 8))"
             if op == "con":
                 t = self.temp()
-                self.emit("%s = %s" % (t, cell % (a, (a + 1) & MASK)), ind)
+                self.emit("%s = %s" % (t, cell % (a, (a + 1) & MASK)), ind, "mem")
                 self.vs.append(t)
             else:
                 lo, hi = self.temp(), self.temp()
-                self.emit("%s = %s" % (lo, cell % ((a + 2) & MASK, (a + 3) & MASK)), ind)
+                self.emit("%s = %s" % (lo, cell % ((a + 2) & MASK, (a + 3) & MASK)), ind, "mem")
                 self.emit("%s = %s" % (hi, cell % (a, (a + 1) & MASK)), ind)
                 self.vs.extend((lo, hi))
-        elif p.inline is not None:
+        elif p.template is not None:
             self.op_inline(p, ind)
         else:
             self.flush(ind)
@@ -303,86 +329,33 @@ class Gen:
         self.goto_next(k, ret, ind)
 
     def terminator(self, ins, k, ind):
-        op = ins.op
-        if op is None:                    # block ends where another begins
-            self.flush(ind)
+        """The code that ends block k: a control operation (control.py) or
+        a call."""
+        op = CONTROL_OPS.get(ins.op)
+        if op is not None:
+            op.gen(self, ins, k, ind)
+            return
+        self.flush(ind)
+        kind = ins.op
+        if kind is None:                  # block ends where another begins
             self.goto_next(k, self.next_addr, ind)
-        elif op == "EXIT":
-            self.flush(ind)
-            self.emit("return rs.pop()", ind)
-        elif op == "BRANCH":
-            self.flush(ind)
-            self.goto_next(k, ins.target, ind)
-        elif op == "?BRANCH":
-            (f,) = self.take(1, ind)
-            self.flush(ind)
-            self.branch("%s == 0" % f, ins.target, k, ins.next, ind)
-        elif op in ("(DO)", "(?DO)"):
-            limit, start = self.take(2, ind)
-            self.flush(ind)
-            i2 = ind
-            if op == "(?DO)":
-                self.emit("if %s == %s: %s" % (start, limit, self.jump_text(ins.target, k)), ind)
-                self.emit("else:", ind)
-                i2 = ind + 1
-            self.emit("_l = (%s + 0x8000) & 0xFFFF" % limit, i2)
-            self.emit("rs.extend((%d, _l, (%s - _l) & 0xFFFF))" % (ins.target, start), i2)
-            self.goto_next(k, ins.next, i2)
-        elif op == "(LOOP)":
-            self.flush(ind)
-            self.emit("_x = rs[-1]", ind)
-            self.branch("_x != 0x7FFF", ins.target, k, ins.next, ind,
-                        "rs[-1] = _x + 1 & 0xFFFF", "del rs[-3:]")
-        elif op == "(+LOOP)":
-            (n,) = self.take(1, ind)
-            self.flush(ind)
-            self.emit("_y = ((rs[-1] ^ 0x8000) - 0x8000) + ((%s ^ 0x8000) - 0x8000)" % n, ind)
-            self.branch("-0x8000 <= _y <= 0x7FFF", ins.target, k, ins.next, ind,
-                        "rs[-1] = _y & 0xFFFF", "del rs[-3:]")
-        elif op in ("(LEAVE)", "(?LEAVE)"):
-            i2 = ind
-            if op == "(?LEAVE)":
-                (f,) = self.take(1, ind)
-                self.flush(ind)
-                self.emit("if %s:" % f, ind)
-                i2 = ind + 1
-            self.flush(i2)
-            self.emit("_t = rs[-3]; del rs[-3:]", i2)
-            self.emit("b = BMAP.get(_t)", i2)
-            self.emit("if b is None: return m.run_from(_t, d0)", i2)
-            self.emit("continue", i2)
-            if op == "(?LEAVE)":
-                self.goto_next(k, ins.next, ind)
-        elif op == "(DOES>)":
-            self.flush(ind)
-            self.emit("m.dictionary.set_does(%d)" % ins.next, ind)
-            self.emit("return rs.pop()", ind)
-        elif op == "colon" or op == "does":
-            self.flush(ind)
+        elif kind in ("colon", "does"):
             code = ins.args[0]                 # the body, or the code after DOES>
-            if op == "does":
-                self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind)
-            self.emit("rs.append(%d)" % ins.next, ind)
+            if kind == "does":
+                self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind, "s")
+            self.emit("rs.append(%d)" % ins.next, ind, "rs")
             self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
             self.emit("r = (FN(%d) or CP(%d))(m)" % (code, code), ind)
             self.call_tail(ins, k, ind)
-        elif op == "EXECUTE":
-            (x,) = self.take(1, ind)
-            self.flush(ind)
-            self.dynamic_call(x, ins.next, ind)
-            self.call_tail(ins, k, ind)
-        elif op == "defer":
-            self.flush(ind)
+        elif kind == "defer":
             body = ins.args[0]
-            self.emit("_x = mem[%d] | (mem[%d] << 8)" % (body, (body + 1) & MASK), ind)
+            self.emit("_x = mem[%d] | (mem[%d] << 8)" % (body, (body + 1) & MASK), ind, "mem")
             self.dynamic_call("_x", ins.next, ind)
             self.call_tail(ins, k, ind)
-        elif op == "bad" or (op == "call" and ins.prim.kind == "runtime"):
-            self.flush(ind)
+        elif kind == "bad" or ins.prim.kind == "runtime":
             self.emit("r = m.call(%d, %d)" % (ins.xt, ins.next), ind)
             self.call_tail(ins, k, ind)
-        elif op == "call":
-            self.flush(ind)
+        else:                             # a primitive that may run Forth or move the clock
             self.emit("%s(m)" % self.const(ins.prim.fn, "P"), ind)
             self.goto_next(k, ins.next, ind)
 
@@ -391,8 +364,8 @@ class Gen:
         no interrupt is due, else through m.call (which does it all)."""
         self.emit("_a = (%s + 2) & 0xFFFF" % x, ind)
         self.emit("if mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0 and m.clock < m.deadline:"
-                  % (x, DOCOL_N, x), ind)
-        self.emit("m.clock += %d; rs.append(%d)" % (self.m.cost[DOCOL_N], ret), ind + 1)
+                  % (x, DOCOL_N, x), ind, "mem")
+        self.emit("m.clock += %d; rs.append(%d)" % (self.m.cost[DOCOL_N], ret), ind + 1, "rs")
         self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind + 1)
         self.emit("r = (FN(_a) or CP(_a))(m)", ind + 1)
         self.emit("else: r = m.call(%s, %d)" % (x, ret), ind)
@@ -444,33 +417,16 @@ class Gen:
                 ind = 3
             self.emit("if b <= %d:   # %04X" % (k, a), ind)
             self.block(k, ops, term, ind + 1)
-        self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2)
-        body = "\n".join(self.lines[2:])
-        locals_ = ["%s = %s" % (n, v) for n, v in (("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"),
-                                                  ("W", "m.watch"), ("d0", "len(rs)"))
-                   if n + "." in body or n + "[" in body or n + ")" in body or n + "," in body
-                   or (n == "rs" and "d0" in body)]
-        self.lines[1] = "    " + ("; ".join(locals_) or "pass")
+        self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2, "d0")
+        if "d0" in self.uses:
+            self.uses.add("rs")
+        self.lines[1] = "    " + ("; ".join("%s = %s" % (n, v) for n, v in PROLOGUE
+                                           if n in self.uses) or "pass")
         marks = set()
         for ins in code.values():
             marks.update(range(ins.addr, ins.next if ins.next > ins.addr else ins.addr + 2))
             marks.update((ins.xt, (ins.xt + 1) & MASK))
         return "\n".join(self.lines), marks
-
-
-def subst(text, env):
-    """Replace single-letter input names in a template by their atoms."""
-    out, i = [], 0
-    while i < len(text):
-        c = text[i]
-        prev = text[i - 1] if i else " "
-        nxt = text[i + 1] if i + 1 < len(text) else " "
-        if c in env and not (prev.isalnum() or prev in "_.'") and not (nxt.isalnum() or nxt == "_"):
-            out.append(env[c])
-        else:
-            out.append(c)
-        i += 1
-    return "".join(out)
 
 
 def compile_code(m, entry):
@@ -480,9 +436,32 @@ def compile_code(m, entry):
     env = dict(gen.consts)
     env.update(HELPERS)
     env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
-    exec(src, env)
+    exec(compile(src, COMPILED, "exec"), env)
     for a in marks:
         m.watch[a] |= WATCH_CODE
     f = env["f"]
     f.source = src
     return f
+
+
+def source(m, name):
+    """The Python that machine m runs for the colon definition `name` (or
+    for the code after DOES> of a word DOES> made): how to follow a word
+    from its source to what runs. For example
+
+        >>> m = rcl.Forth(); m.evaluate(": SQ  DUP * ;")
+        >>> print(rcl.forth.compiler.source(m, "SQ"))
+    """
+    found = m.dictionary.find(name)
+    if found is None:
+        raise LookupError("%s is not defined" % name)
+    xt = found[0]
+    cf = m.memory.fetch(xt)
+    if cf >= PRIM_LIMIT:
+        addr = cf
+    elif cf == DOCOL_N:
+        addr = (xt + 2) & MASK
+    else:
+        raise ValueError("%s is a primitive, not threaded code" % name)
+    f = m.fn.get(addr) or compile_code(m, addr)
+    return f.source
