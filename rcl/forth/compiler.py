@@ -65,6 +65,7 @@ the next call). A definition already running finishes in its old form.
 """
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
 from rcl.forth.primitives import DEFAULT_COST, HELPERS, REGISTRY
+from rcl.forth.compile_loops import LoopGen
 from rcl.forth.control import BY_NAME as CONTROL_OPS
 from rcl.forth.inner import COMPILED, CONTROL, N, RSTACK_CELLS, decode_args, rt_push
 
@@ -165,7 +166,7 @@ PROLOGUE = (("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"), ("W", "m.watch"), ("
 # An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
 WIDE_DPL = "wide"
 
-class Gen:
+class Gen(LoopGen):
     """Python source for one definition."""
 
     def __init__(self, m, entry):
@@ -199,11 +200,14 @@ class Gen:
         if n == 0:
             return []
         have = self.vs[-n:] if n <= len(self.vs) else list(self.vs)
+        if have and have[0] == "_c":              # a loop's carried top of stack
+            self.carried_used = True
         del self.vs[len(self.vs) - len(have):]
         loaded = []
         for _ in range(n - len(have)):
             t = self.temp()
             self.emit("%s = s.pop()" % t, ind, "s")
+            self.real_stack = True
             loaded.insert(0, t)
         return loaded + have
 
@@ -219,6 +223,8 @@ class Gen:
 
     def flush(self, ind):
         self.flush_dpl(ind)
+        if self.vs:
+            self.real_stack = True
         if len(self.vs) == 1:
             self.emit("s.append(%s)" % self.vs[0], ind, "s")
         elif self.vs:
@@ -230,6 +236,11 @@ class Gen:
         """Paste p's parsed template: inputs taken as atoms, outputs kept as
         atoms; an output over numbers only is computed now (folded)."""
         tpl = p.template
+        if self.in_loop and p.name == "I":       # the index is in locals (compile_loops.py)
+            t = self.temp()
+            self.emit("%s = (_i + _lim) & 0xFFFF" % t, ind)
+            self.vs.append(t)
+            return
         if p.touches_memory:
             self.flush_dpl(ind)
         atoms = self.take(len(tpl.inputs), ind)
@@ -416,7 +427,10 @@ class Gen:
                     self.emit("if b <= %d:" % min(k + GROUP - 1, len(starts) - 1), 2)
                 ind = 3
             self.emit("if b <= %d:   # %04X" % (k, a), ind)
-            self.block(k, ops, term, ind + 1)
+            if self.loopable(ops, term, a):
+                self.loop_block(k, ops, term, ind + 1)
+            else:
+                self.block(k, ops, term, ind + 1)
         self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2, "d0")
         if "d0" in self.uses:
             self.uses.add("rs")

@@ -1,0 +1,81 @@
+"""The compiler's speed-ups keep virtual time exact: the same clock and the
+same interrupts at the same primitive boundaries as the reference loop
+`run_from`, with the interrupt falling at every offset of a loop's body."""
+import pytest
+
+import rcl
+from rcl.forth.compiler import source
+
+PRIM = 1_000_000
+
+
+class Ticker:
+    """An interrupt every `period` clock units that counts in Forth;
+    optionally asks for a break (as Ctrl-C does) at its `brk`-th service."""
+
+    def __init__(self, m, period, brk=None):
+        self.xt = m.dictionary.find("TICK")[0]
+        self.period, self.due, self.times, self.brk = period, period, [], brk
+
+    def service(self, m):
+        self.times.append(m.clock)
+        self.due += self.period
+        m.run_handler(self.xt)
+        if len(self.times) == self.brk:
+            m.request_break()
+
+
+def run(program, word, compiled, period, brk=None):
+    m = rcl.Forth()
+    m.compiled = compiled
+    m.evaluate("VARIABLE TICKS  : TICK  1 TICKS +! ;")
+    m.evaluate(program)
+    t = Ticker(m, period, brk)
+    m.attach(t)
+    try:
+        out = m.evaluate(word)
+    except rcl.ForthError as e:
+        out = "error: %s" % e.message
+    return out, m.stack, m.clock, t.times, m.evaluate("TICKS @ ."), m
+
+
+def same_both_ways(program, word, periods, brk=None):
+    for period in periods:
+        a, b = (run(program, word, c, period, brk) for c in (True, False))
+        assert a[:5] == b[:5], (word, period)
+        assert a[3], "the interrupt source fired"
+    return a[5]
+
+
+# Interrupt periods that fall at every offset of a short loop body.
+PERIODS = [k * PRIM + PRIM // 3 for k in (3, 4, 5, 6, 7, 11)] + [29 * PRIM]
+
+LOOPS = {
+    "SUM": ": SUM  0 300 0 DO  I +  LOOP ;",                       # top of stack carried
+    "STEP": ": STEP  0 0 200 DO  I +  -3 +LOOP ;",                  # +LOOP, negative
+    "SQUARES": ": SQUARES  200 0 DO  I DUP * DROP  LOOP ;",          # no stack carried
+    "FILL": "CREATE BUF 100 ALLOT  : FILL  BUF 100 + BUF DO  I 7 AND I C!  LOOP  BUF 99 + C@ ;",
+    "NEST": ": NEST  0 10 0 DO  20 0 DO  I J * +  LOOP  LOOP ;",
+    "WRAP": ": WRAP  0 -32700 32700 DO  1+  LOOP ;",                 # crosses 32767
+}
+
+
+def test_a_loop_whose_body_is_one_block_becomes_a_python_while_loop():
+    m = rcl.Forth()
+    m.evaluate(LOOPS["SUM"])
+    src = source(m, "SUM")
+    assert src.count("while True:") == 2                # the block loop and the DO loop
+    assert "_c = s.pop()" in src and "(_i + _lim)" in src
+
+
+@pytest.mark.parametrize("word", sorted(LOOPS))
+def test_python_while_loops_take_interrupts_between_the_reference_loops_primitives(word):
+    m = same_both_ways(LOOPS[word], word, PERIODS)
+    assert "while True:\n" in source(m, word).split("while True:", 1)[1]
+
+
+def test_a_break_request_stops_a_python_while_loop_where_the_reference_loop_stops():
+    program = LOOPS["SUM"].replace("300", "3000")
+    same_both_ways(program, "SUM", [7 * PRIM + 5, 13 * PRIM + 77], brk=5)
+    out = run(program, "SUM", True, 7 * PRIM + 5, brk=5)[0]
+    assert out == "error: Interrupted"
