@@ -79,3 +79,49 @@ def test_a_break_request_stops_a_python_while_loop_where_the_reference_loop_stop
     same_both_ways(program, "SUM", [7 * PRIM + 5, 13 * PRIM + 77], brk=5)
     out = run(program, "SUM", True, 7 * PRIM + 5, brk=5)[0]
     assert out == "error: Interrupted"
+
+
+CALLS = {
+    "ADDRS": "CREATE ITEMS 40 ALLOT  2 CONSTANT CELL  : ITEM  CELL * ITEMS + ;"
+             "  : ADDRS  0 20 0 DO  I ITEM  I OVER !  @ +  LOOP ;",
+    "NESTED": ": SQ  DUP * ;  : SQ+  SQ 1+ ;  : NESTED  0 30 0 DO  I SQ+ +  LOOP ;",
+    "BRANCHY": ": SQ  DUP * ;  : BRANCHY  0 30 0 DO  I 3 MOD IF I SQ + ELSE 1+ THEN LOOP ;",
+}
+
+
+def test_a_small_colon_definition_is_pasted_into_its_caller():
+    m = rcl.Forth()
+    m.evaluate(CALLS["NESTED"])
+    src = source(m, "NESTED")
+    assert "FN(" not in src                        # no call left: SQ+ and SQ inlined
+    assert "while True:\n" in src.split("while True:", 1)[1]   # and the loop is a while
+
+
+@pytest.mark.parametrize("word", sorted(CALLS))
+def test_inlined_calls_take_interrupts_between_the_reference_loops_primitives(word):
+    same_both_ways(CALLS[word], word, PERIODS)
+
+
+def test_an_inlined_call_overflows_the_return_stack_where_the_real_call_does():
+    program = (": SQ  DUP * ;  : DEEP  DUP 0= IF EXIT THEN  1- 5 SQ DROP  RECURSE ;")
+    for depth in (997, 998, 999, 1000):
+        a, b = (run(program, "%d DEEP" % depth, c, 50 * PRIM) for c in (True, False))
+        assert a[:5] == b[:5], depth
+
+
+def test_a_store_into_an_inlined_word_is_seen_by_its_callers():
+    m = rcl.Forth()
+    m.evaluate(": ONE  1 ;  : TWO  2 ;  : USE  ONE ONE + ;  USE .")
+    assert "FN(" not in source(m, "USE")
+    m.evaluate("' TWO >BODY @  ' ONE >BODY !")     # ONE now runs 2's literal... as TWO
+    assert m.evaluate("USE .") == m.evaluate("ONE ONE + .")
+
+
+def test_a_block_that_runs_into_the_next_checks_for_interrupts_once_at_that_boundary():
+    # A handler (5 primitives) longer than its period: an interrupt is due at
+    # every boundary, so a second check at one boundary would take a second
+    # interrupt there (the compiler did, before a block that begins at BEGIN
+    # or after THEN).
+    for program in (": W  0 BEGIN 1+ DUP 30 = UNTIL ;",
+                    ": W  0 IF 1 ELSE 2 THEN  0 IF 1 ELSE 2 THEN  3 ;"):
+        same_both_ways(program, "W", [3 * PRIM + PRIM // 3, 4 * PRIM + 1])

@@ -56,7 +56,7 @@ class LoopGen:
             return False
         for i in ops:
             p = i.prim
-            if i.op in ("var", "con", "2con"):
+            if i.op in ("var", "con", "2con", "enter", "exit"):
                 continue
             if i.op == "literal" and p.extra.get("lit") is not None:
                 continue
@@ -102,7 +102,7 @@ class LoopGen:
             self.emit("_c = s.pop()", ind, "s")
         self.emit("try:", ind)
         self.emit("while True:", ind + 1)
-        self.emit("if _clk + %d >= m.deadline:" % pre, ind + 2)
+        self.emit("if _clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 2)
         self.emit("m.clock = _clk; _clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
                   ind + 3, "s")
         self.emit("slow(m, %s, %d)" % (seq, term.cost), ind + 3)

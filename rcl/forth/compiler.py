@@ -64,26 +64,32 @@ in `watch`; a store there throws all compiled code away (it is rebuilt on
 the next call). A definition already running finishes in its old form.
 """
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
-from rcl.forth.primitives import DEFAULT_COST, HELPERS, REGISTRY
+from rcl.forth.primitives import HELPERS
 from rcl.forth.compile_loops import LoopGen
 from rcl.forth.control import BY_NAME as CONTROL_OPS
-from rcl.forth.inner import COMPILED, CONTROL, N, RSTACK_CELLS, decode_args, rt_push
+from rcl.forth.decode import (NO_TERMINATOR, TERMINATORS, decode, rt_enter,  # noqa: F401
+                              rt_exit, walk)          # (decode: for SEE)
+from rcl.forth.inner import COMPILED, N, RSTACK_CELLS, rt_push
 
 DOCOL_N = N["(DOCOL)"]
 
 GROUP = 32                   # blocks per group of guards in a long definition
 
 
-def slow(m, seq, term_cost):
-    """Run a block's primitives one by one, then account for its terminator."""
+def slow(m, seq, term_cost=None):
+    """Run a block's primitives one by one, then account for its terminator
+    (None: a block that runs into the next, or a call that checks itself:
+    a second check at the same boundary could take a second interrupt
+    there, where the reference loop takes one)."""
     for cost, fn, args in seq:
         if m.clock >= m.deadline:
             m.housekeep()
         m.clock += cost
         fn(m, *args)
-    if m.clock >= m.deadline:
-        m.housekeep()
-    m.clock += term_cost
+    if term_cost is not None:
+        if m.clock >= m.deadline:
+            m.housekeep()
+        m.clock += term_cost
 
 
 def rt_con(m, a):
@@ -92,72 +98,6 @@ def rt_con(m, a):
 
 def rt_2con(m, a):
     m.s.extend(m.memory.dfetch(a))
-
-
-class Instr:
-    """One decoded cell of threaded code."""
-    __slots__ = ("addr", "xt", "op", "args", "next", "target", "cost", "prim")
-
-    def __init__(self, addr, xt, op, args, nxt, cost, prim=None, target=None):
-        self.addr, self.xt, self.op, self.args = addr, xt, op, args
-        self.next, self.cost, self.prim, self.target = nxt, cost, prim, target
-
-
-NO_TERMINATOR = Instr(0, 0, None, (), 0, 0)   # a block that just runs into the next
-
-TERMINATORS = set(CONTROL_OPS) | {"colon", "does", "defer", "call", "bad"}
-NO_FALLTHROUGH = {op.name for op in CONTROL_OPS.values() if not op.falls_through}
-RUNTIME_KINDS = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
-                 N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
-                 N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}
-
-
-def decode(m, ip):
-    """Decode the instruction at ip into an Instr."""
-    fetch = m.memory.fetch
-    xt = fetch(ip)
-    nxt = (ip + 2) & MASK
-    cf = fetch(xt)
-    if cf >= PRIM_LIMIT:
-        return Instr(ip, xt, "does", (cf,), nxt, m.cost[N["(DOCOL)"]])
-    p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
-    if p is None:
-        return Instr(ip, xt, "bad", (), nxt, DEFAULT_COST)
-    cost = m.cost[cf]
-    op = CONTROL.get(cf)
-    if op is not None:
-        target = None
-        if op.target:
-            target = fetch(nxt)
-            nxt = (nxt + 2) & MASK
-        return Instr(ip, xt, op.name, (), nxt, cost, p, target)
-    if p.kind == "literal":
-        args, nxt = decode_args(m, p, nxt)
-        return Instr(ip, xt, "literal", args, nxt, cost, p)
-    if p.kind == "runtime":
-        body = (xt + 2) & MASK
-        return Instr(ip, xt, RUNTIME_KINDS.get(cf, "call"), (body,), nxt, cost, p)
-    return Instr(ip, xt, "call" if p.kind == "call" else "simple", (), nxt, cost, p)
-
-
-def walk(m, entry):
-    """All instructions reachable from entry, by address, and the addresses
-    where blocks start."""
-    code, todo, targets = {}, [entry], {entry}
-    while todo:
-        ip = todo.pop()
-        while ip not in code:
-            ins = decode(m, ip)
-            code[ip] = ins
-            if ins.target is not None:
-                targets.add(ins.target)
-                todo.append(ins.target)
-            if ins.op in TERMINATORS:
-                targets.add(ins.next)
-            if ins.op in NO_FALLTHROUGH:
-                break
-            ip = ins.next
-    return code, targets
 
 
 # The locals a compiled function may bind, in order, and what they hold.
@@ -260,7 +200,9 @@ class Gen(LoopGen):
 
     def op_simple(self, ins, ind):
         p, op = ins.prim, ins.op
-        if op == "literal":
+        if op in ("enter", "exit"):                # an inlined call (decode.py): the
+            pass                                   # block's check saw the depth it needs
+        elif op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants
                 cells, dpl = lit(ins.args)
@@ -294,6 +236,10 @@ class Gen(LoopGen):
     def slow_entry(self, ins):
         """(cost, fn, args) for the slow path."""
         p, op = ins.prim, ins.op
+        if op == "enter":
+            return (ins.cost, rt_enter, ins.args)
+        if op == "exit":
+            return (ins.cost, rt_exit, ())
         if op == "literal":
             return (ins.cost, p.fn, ins.args)
         if op == "var":
@@ -390,8 +336,9 @@ class Gen(LoopGen):
         through_call = term.op == "bad" or (term.op == "call" and term.prim.kind == "runtime")
         tcost = 0 if term.op is None or through_call else term.cost
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
-        self.emit("if m.clock + %d >= m.deadline:" % pre, ind)
-        self.emit("slow(m, %s, %d)" % (seq, tcost), ind + 1)
+        self.emit("if m.clock + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
+        self.emit("slow(m, %s)" % seq if term.op is None or through_call
+                  else "slow(m, %s, %d)" % (seq, tcost), ind + 1)
         self.vs, self.dpl = [], None
         self.terminator(term, k, ind + 1)
         self.emit("else:", ind)
@@ -400,6 +347,19 @@ class Gen(LoopGen):
         for i in ops:
             self.op_simple(i, ind + 1)
         self.terminator(term, k, ind + 1)
+
+    def depth_check(self, ops):
+        """For a block with inlined calls: the condition under which one of
+        them would overflow the return stack (then the slow path runs, and
+        overflows exactly where the real call would)."""
+        depth = deepest = 0
+        for i in ops:
+            depth += (i.op == "enter") - (i.op == "exit")
+            deepest = max(deepest, depth)
+        if not deepest:
+            return ""
+        self.uses.add("rs")
+        return " or len(rs) > %d" % (RSTACK_CELLS - deepest)
 
     def build(self):
         code, targets = walk(self.m, self.entry)
@@ -416,7 +376,7 @@ class Gen(LoopGen):
                 if ins.op in TERMINATORS:
                     term = ins
                     break
-                ops.append(ins)
+                ops.extend(ins.args[1] if ins.op == "inline" else (ins,))
                 ip = ins.next
                 if ip in self.index or ip not in code:
                     break
@@ -438,8 +398,9 @@ class Gen(LoopGen):
                                            if n in self.uses) or "pass")
         marks = set()
         for ins in code.values():
-            marks.update(range(ins.addr, ins.next if ins.next > ins.addr else ins.addr + 2))
-            marks.update((ins.xt, (ins.xt + 1) & MASK))
+            for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):
+                marks.update(range(i.addr, i.next if i.next > i.addr else i.addr + 2))
+                marks.update((i.xt, (i.xt + 1) & MASK))
         return "\n".join(self.lines), marks
 
 
@@ -477,5 +438,5 @@ def source(m, name):
         addr = (xt + 2) & MASK
     else:
         raise ValueError("%s is a primitive, not threaded code" % name)
-    f = m.fn.get(addr) or compile_code(m, addr)
-    return f.source
+    f = m.fn.get(addr) or m.compile(addr)
+    return getattr(f, "source", None) or compile_code(m, addr).source
