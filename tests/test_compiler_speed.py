@@ -125,3 +125,23 @@ def test_a_block_that_runs_into_the_next_checks_for_interrupts_once_at_that_boun
     for program in (": W  0 BEGIN 1+ DUP 30 = UNTIL ;",
                     ": W  0 IF 1 ELSE 2 THEN  0 IF 1 ELSE 2 THEN  3 ;"):
         same_both_ways(program, "W", [3 * PRIM + PRIM // 3, 4 * PRIM + 1])
+
+
+def test_a_constant_is_compiled_in_and_a_store_into_it_is_still_seen():
+    m = rcl.Forth()
+    m.evaluate("2 CONSTANT CELL  5 VALUE V  : W  CELL 3 * V + ;")
+    assert m.evaluate("W .") == "11 "
+    src = source(m, "W")
+    assert "(6 + t1)" in src                             # CELL 3 * folded: 6
+    assert "t1 = (mem[" in src                           # V read where it lives
+    m.evaluate("7 ' CELL >BODY !  9 TO V")
+    assert m.evaluate("W .") == "30 "
+
+
+def test_i_used_twice_in_a_block_is_computed_once():
+    m = rcl.Forth()
+    m.evaluate("CREATE A 20 ALLOT  : W  10 0 DO  I I + I 2* A + !  I 5 = IF LEAVE THEN  LOOP ;")
+    src = source(m, "W")
+    assert src.count("rs[-1] + rs[-2]") == 1             # four I's in one block
+    same_both_ways("CREATE A 20 ALLOT  : W  10 0 DO  I I + I 2* A + !  "
+                   "I 5 = IF LEAVE THEN  LOOP  A 8 + @ ;", "W", PERIODS[:3])

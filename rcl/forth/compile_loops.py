@@ -56,7 +56,7 @@ class LoopGen:
             return False
         for i in ops:
             p = i.prim
-            if i.op in ("var", "con", "2con", "enter", "exit"):
+            if i.op in ("var", "con", "const", "2con", "enter", "exit"):
                 continue
             if i.op == "literal" and p.extra.get("lit") is not None:
                 continue
@@ -72,6 +72,7 @@ class LoopGen:
         saved, self.lines = self.lines, []
         self.vs, self.dpl = (["_c"] if carry else []), None
         self.real_stack, self.in_loop, self.carried_used = False, True, False
+        self.index_atom = None
         for i in ops:
             self.op_simple(i, ind)
         step = self.take(1, ind)[0] if plus else None

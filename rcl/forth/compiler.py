@@ -118,6 +118,7 @@ class Gen(LoopGen):
         self.vs = []
         self.dpl = None
         self.uses = set()
+        self.index_atom = None   # the temp holding I, while the loop frame stays put
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -176,11 +177,17 @@ class Gen(LoopGen):
         """Paste p's parsed template: inputs taken as atoms, outputs kept as
         atoms; an output over numbers only is computed now (folded)."""
         tpl = p.template
+        if p.name == "I" and self.index_atom is not None:   # I again: the same value
+            self.vs.append(self.index_atom)
+            return
         if self.in_loop and p.name == "I":       # the index is in locals (compile_loops.py)
             t = self.temp()
             self.emit("%s = (_i + _lim) & 0xFFFF" % t, ind)
             self.vs.append(t)
+            self.index_atom = t
             return
+        if "rs" in tpl.uses and p.name not in ("I", "J"):
+            self.index_atom = None               # the loop frame may have moved
         if p.touches_memory:
             self.flush_dpl(ind)
         atoms = self.take(len(tpl.inputs), ind)
@@ -197,6 +204,8 @@ class Gen(LoopGen):
                 t = self.temp()
                 self.emit("%s = %s" % (t, o.fill(atoms)), ind, *o.uses)
                 self.vs.append(t)
+        if p.name == "I":
+            self.index_atom = self.vs[-1]
 
     def op_simple(self, ins, ind):
         p, op = ins.prim, ins.op
@@ -211,9 +220,12 @@ class Gen(LoopGen):
                     self.dpl = dpl
                 return
             self.flush(ind)
+            self.index_atom = None
             self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
         elif op == "var":
             self.vs.append(str(ins.args[0]))
+        elif op == "const":                        # its cell is watched (decode.py)
+            self.vs.append(str(self.m.memory.fetch(ins.args[0])))
         elif op in ("con", "2con"):
             self.flush_dpl(ind)
             a = ins.args[0]
@@ -231,6 +243,7 @@ class Gen(LoopGen):
             self.op_inline(p, ind)
         else:
             self.flush(ind)
+            self.index_atom = None               # Python code may move the loop frame
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
 
     def slow_entry(self, ins):
@@ -244,7 +257,7 @@ class Gen(LoopGen):
             return (ins.cost, p.fn, ins.args)
         if op == "var":
             return (ins.cost, rt_push, ins.args)
-        if op == "con":
+        if op in ("con", "const"):
             return (ins.cost, rt_con, ins.args)
         if op == "2con":
             return (ins.cost, rt_2con, ins.args)
@@ -336,6 +349,7 @@ class Gen(LoopGen):
         through_call = term.op == "bad" or (term.op == "call" and term.prim.kind == "runtime")
         tcost = 0 if term.op is None or through_call else term.cost
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
+        self.index_atom = None
         self.emit("if m.clock + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
         self.emit("slow(m, %s)" % seq if term.op is None or through_call
                   else "slow(m, %s, %d)" % (seq, tcost), ind + 1)
@@ -343,7 +357,7 @@ class Gen(LoopGen):
         self.terminator(term, k, ind + 1)
         self.emit("else:", ind)
         self.emit("m.clock += %d" % (pre + tcost), ind + 1)
-        self.vs, self.dpl = [], None
+        self.vs, self.dpl, self.index_atom = [], None, None
         for i in ops:
             self.op_simple(i, ind + 1)
         self.terminator(term, k, ind + 1)
@@ -401,6 +415,8 @@ class Gen(LoopGen):
             for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):
                 marks.update(range(i.addr, i.next if i.next > i.addr else i.addr + 2))
                 marks.update((i.xt, (i.xt + 1) & MASK))
+                if i.op == "const":
+                    marks.update((i.args[0], (i.args[0] + 1) & MASK))
         return "\n".join(self.lines), marks
 
 

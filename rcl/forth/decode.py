@@ -34,7 +34,8 @@ NO_TERMINATOR = Instr(0, 0, None, (), 0, 0)   # a block that just runs into the 
 
 TERMINATORS = set(CONTROL_OPS) | {"colon", "does", "defer", "call", "bad"}
 NO_FALLTHROUGH = {op.name for op in CONTROL_OPS.values() if not op.falls_through}
-RUNTIME_KINDS = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "con",
+# A CONSTANT's value is compiled in (its cell watched); a VALUE's is read.
+RUNTIME_KINDS = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "const",
                  N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
                  N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}
 
@@ -121,7 +122,7 @@ def callee(m, addr, depth):
 
 def plain(ins):
     """Does ins only compute on the data stack and memory?"""
-    if ins.op in ("var", "con", "2con"):
+    if ins.op in ("var", "con", "const", "2con"):
         return True
     if ins.op == "literal":
         return ins.prim.extra.get("lit") is not None
