@@ -18,7 +18,7 @@ few minutes with a machine at hand):
    by run_from, next to its code generator) or a call. What it prints:
 
     def f(m):
-        s = m.s; rs = m.rs; d0 = len(rs)    # only the locals the code uses
+        s = m.s; rs = m.rs                  # only the locals the code uses
         b = 0
         while True:
             if b <= 0:   # 145A              # block 0: 1- DUP 0= ?BRANCH
@@ -58,6 +58,11 @@ the next block takes the slow path and stops at its first primitive).
 
 Calls: a colon word's function is called as Python (return address pushed
 on the real return stack, checked against what EXIT returns: see inner.py).
+A small straight colon word is not called at all: decode.py pastes its
+primitives into the caller's block, between an "enter" and an "exit" that
+cost what the call and its EXIT cost. A DO loop whose body is one block
+becomes a Python `while` with the index and the clock in locals
+(compile_loops.py).
 
 Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
@@ -405,7 +410,8 @@ class Gen(LoopGen):
                 self.loop_block(k, ops, term, ind + 1)
             else:
                 self.block(k, ops, term, ind + 1)
-        self.emit("return m.run_from(%d, d0)" % (starts[-1] if starts else self.entry), 2, "d0")
+        # Every block ends in a return or a jump, or runs into the next one.
+        self.emit("raise RuntimeError('compiled code ran past its last block')", 2)
         if "d0" in self.uses:
             self.uses.add("rs")
         self.lines[1] = "    " + ("; ".join("%s = %s" % (n, v) for n, v in PROLOGUE
