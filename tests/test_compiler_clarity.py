@@ -146,7 +146,7 @@ def test_constants_are_folded_as_the_word_computes_them():
 
 
 def test_the_prologue_binds_only_the_locals_the_code_uses():
-    assert compiled_source(": W  DUP + ;").splitlines()[1] == "    s = m.s; rs = m.rs"
+    assert compiled_source(": W  DUP + ;").splitlines()[1] == "    s = m.s; rs = m.rs; clk = m.clock"
     assert "mem = m.mem" in compiled_source(": W  @ ;").splitlines()[1]
     assert "W = m.watch" in compiled_source(": W  ! ;").splitlines()[1]
 

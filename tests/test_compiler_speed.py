@@ -145,3 +145,31 @@ def test_i_used_twice_in_a_block_is_computed_once():
     assert src.count("rs[-1] + rs[-2]") == 1             # four I's in one block
     same_both_ways("CREATE A 20 ALLOT  : W  10 0 DO  I I + I 2* A + !  "
                    "I 5 = IF LEAVE THEN  LOOP  A 8 + @ ;", "W", PERIODS[:3])
+
+
+def test_a_python_primitive_sees_the_clock_the_reference_loop_shows_it(monkeypatch):
+    # Compiled code keeps the clock in a local; a primitive written in Python
+    # (here DEPTH) must still read m.clock exactly.
+    from rcl.forth.primitives import BY_NAME
+    depth = BY_NAME["DEPTH"]
+    seen = []
+
+    def spy(m, fn=depth.fn):
+        seen.append(m.clock)
+        fn(m)
+    monkeypatch.setattr(depth, "fn", spy)
+    program = ": SQ  DUP * ;  : W  0 20 0 DO  I SQ +  DEPTH DROP  I 3 MOD IF DEPTH + THEN  LOOP ;"
+    runs = []
+    for compiled in (True, False):
+        seen.clear()
+        runs.append((run(program, "W", compiled, 9 * PRIM + 7)[:5], list(seen)))
+    assert runs[0] == runs[1] and len(runs[0][1]) > 30
+
+
+def test_an_error_inside_compiled_code_leaves_the_clock_where_the_block_put_it():
+    m = rcl.Forth()
+    m.evaluate(": W  100 0 DO  I 50 = IF  DROP DROP  THEN  LOOP ;")
+    before = m.clock
+    with pytest.raises(rcl.ForthError):
+        m.evaluate("W")
+    assert m.clock > before + 50 * 3 * PRIM          # the loop's time up to the error is kept

@@ -73,7 +73,7 @@ class LoopGen:
         self.vs, self.dpl = (["_c"] if carry else []), None
         self.real_stack, self.in_loop, self.carried_used = False, True, False
         self.index_atom = None
-        for i in ops:
+        for i in ops:                # (no Python primitive here: `rest` stays 0)
             self.op_simple(i, ind)
         step = self.take(1, ind)[0] if plus else None
         self.flush_dpl(ind)
@@ -93,36 +93,33 @@ class LoopGen:
         pre = sum(i.cost for i in ops)
         plus = term.op == "(+LOOP)"
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
-        body = self.loop_body(ops, plus, ind + 3, True)
+        body = self.loop_body(ops, plus, ind + 2, True)
         carry = body is not None
         if not carry:
-            body = self.loop_body(ops, plus, ind + 3, False)
+            body = self.loop_body(ops, plus, ind + 2, False)
         lines, step, out = body
-        self.emit("_lim = rs[-2]; _i = rs[-1]; _clk = m.clock", ind, "rs")
+        self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
         if carry:
             self.emit("_c = s.pop()", ind, "s")
-        self.emit("try:", ind)
-        self.emit("while True:", ind + 1)
-        self.emit("if _clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 2)
-        self.emit("m.clock = _clk; _clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
-                  ind + 3, "s")
-        self.emit("slow(m, %s, %d)" % (seq, term.cost), ind + 3)
-        self.emit("_clk = m.clock; _i = rs[-1]" + ("; _n = s.pop()" if plus else "")
-                  + ("; _c = s.pop()" if carry else ""), ind + 3)
-        self.emit("else:", ind + 2)
-        self.emit("_clk += %d" % (pre + term.cost), ind + 3)
+        self.emit("while True:", ind)
+        self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 1)
+        self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
+                  ind + 2, "s")
+        self.emit("slow(m, %s, %d)" % (seq, term.cost), ind + 2)
+        self.emit("clk = m.clock; _i = rs[-1]" + ("; _n = s.pop()" if plus else "")
+                  + ("; _c = s.pop()" if carry else ""), ind + 2)
+        self.emit("else:", ind + 1)
+        self.emit("clk += %d" % (pre + term.cost), ind + 2)
         self.lines.extend(lines)
         if carry and out != "_c":
-            self.emit("_c = %s" % out, ind + 3)
+            self.emit("_c = %s" % out, ind + 2)
         if plus:
-            self.emit("_n = %s" % step, ind + 3)
-            self.emit("_y = LOOP_STEP(_i, _n)", ind + 2)
-            self.emit("if _y is not None: _i = _y; continue", ind + 2)
+            self.emit("_n = %s" % step, ind + 2)
+            self.emit("_y = LOOP_STEP(_i, _n)", ind + 1)
+            self.emit("if _y is not None: _i = _y; continue", ind + 1)
         else:
-            self.emit("if _i != %d: _i = _i + 1 & 0xFFFF; continue" % LAST_INDEX, ind + 2)
-        self.emit("break", ind + 2)
-        self.emit("finally:", ind)
-        self.emit("if _clk >= 0: m.clock = _clk", ind + 1)
+            self.emit("if _i != %d: _i = _i + 1 & 0xFFFF; continue" % LAST_INDEX, ind + 1)
+        self.emit("break", ind + 1)
         if carry:
             self.emit("s.append(_c)", ind)
         self.emit("del rs[-3:]", ind)

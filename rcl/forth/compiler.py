@@ -124,6 +124,7 @@ class Gen(LoopGen):
         self.dpl = None
         self.uses = set()
         self.index_atom = None   # the temp holding I, while the loop frame stays put
+        self.rest = 0            # clock units clk holds beyond the primitive being emitted
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -226,7 +227,9 @@ class Gen(LoopGen):
                 return
             self.flush(ind)
             self.index_atom = None
+            self.clock_out(ind)
             self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
+            self.clock_in(ind)
         elif op == "var":
             self.vs.append(str(ins.args[0]))
         elif op == "const":                        # its cell is watched (decode.py)
@@ -249,7 +252,9 @@ class Gen(LoopGen):
         else:
             self.flush(ind)
             self.index_atom = None               # Python code may move the loop frame
+            self.clock_out(ind)
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
+            self.clock_in(ind)
 
     def slow_entry(self, ins):
         """(cost, fn, args) for the slow path."""
@@ -298,6 +303,18 @@ class Gen(LoopGen):
         for line in rest:
             self.emit(line, ind)
 
+    def clock_out(self, ind):
+        """Before Python that may read or move the clock: m.clock is the
+        truth until clock_in (clk = -1 tells the function's finally so).
+        In the middle of a block, clk already holds the whole block's cost:
+        m.clock gets what the reference loop would show (`rest` is the cost
+        of the primitives after this one)."""
+        self.emit("m.clock = clk - %d; clk = -1" % self.rest if self.rest
+                  else "m.clock = clk; clk = -1", ind)
+
+    def clock_in(self, ind):
+        self.emit("clk = m.clock + %d" % self.rest if self.rest else "clk = m.clock", ind)
+
     def call_tail(self, ins, k, ind):
         ret = ins.next
         self.emit("if r != %d: return r" % ret, ind)
@@ -319,8 +336,10 @@ class Gen(LoopGen):
             if kind == "does":
                 self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind, "s")
             self.emit("rs.append(%d)" % ins.next, ind, "rs")
+            self.clock_out(ind)
             self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
             self.emit("r = (FN(%d) or CP(%d))(m)" % (code, code), ind)
+            self.clock_in(ind)
             self.call_tail(ins, k, ind)
         elif kind == "defer":
             body = ins.args[0]
@@ -328,22 +347,28 @@ class Gen(LoopGen):
             self.dynamic_call("_x", ins.next, ind)
             self.call_tail(ins, k, ind)
         elif kind == "bad" or ins.prim.kind == "runtime":
+            self.clock_out(ind)
             self.emit("r = m.call(%d, %d)" % (ins.xt, ins.next), ind)
+            self.clock_in(ind)
             self.call_tail(ins, k, ind)
         else:                             # a primitive that may run Forth or move the clock
+            self.clock_out(ind)
             self.emit("%s(m)" % self.const(ins.prim.fn, "P"), ind)
+            self.clock_in(ind)
             self.goto_next(k, ins.next, ind)
 
     def dynamic_call(self, x, ret, ind):
         """Call the xt in x: straight into a colon word's compiled code when
         no interrupt is due, else through m.call (which does it all)."""
         self.emit("_a = (%s + 2) & 0xFFFF" % x, ind)
+        self.clock_out(ind)
         self.emit("if mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0 and m.clock < m.deadline:"
                   % (x, DOCOL_N, x), ind, "mem")
         self.emit("m.clock += %d; rs.append(%d)" % (self.m.cost[DOCOL_N], ret), ind + 1, "rs")
         self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind + 1)
         self.emit("r = (FN(_a) or CP(_a))(m)", ind + 1)
         self.emit("else: r = m.call(%s, %d)" % (x, ret), ind)
+        self.clock_in(ind)
 
     # ---------------------------------------------------------- assembly
     def block(self, k, ops, term, ind):
@@ -355,16 +380,21 @@ class Gen(LoopGen):
         tcost = 0 if term.op is None or through_call else term.cost
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         self.index_atom = None
-        self.emit("if m.clock + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
+        self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
+        self.clock_out(ind + 1)
         self.emit("slow(m, %s)" % seq if term.op is None or through_call
                   else "slow(m, %s, %d)" % (seq, tcost), ind + 1)
+        self.clock_in(ind + 1)
         self.vs, self.dpl = [], None
         self.terminator(term, k, ind + 1)
         self.emit("else:", ind)
-        self.emit("m.clock += %d" % (pre + tcost), ind + 1)
+        self.emit("clk += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl, self.index_atom = [], None, None
+        self.rest = pre + tcost
         for i in ops:
+            self.rest -= i.cost
             self.op_simple(i, ind + 1)
+        self.rest = 0
         self.terminator(term, k, ind + 1)
 
     def depth_check(self, ops):
@@ -414,8 +444,12 @@ class Gen(LoopGen):
         self.emit("raise RuntimeError('compiled code ran past its last block')", 2)
         if "d0" in self.uses:
             self.uses.add("rs")
-        self.lines[1] = "    " + ("; ".join("%s = %s" % (n, v) for n, v in PROLOGUE
-                                           if n in self.uses) or "pass")
+        self.lines[1] = "    " + "; ".join(["%s = %s" % (n, v) for n, v in PROLOGUE
+                                                if n in self.uses] + ["clk = m.clock"])
+        # The clock lives in clk; whatever way the function is left, m.clock
+        # gets it back (unless a call or the slow path made m.clock the truth).
+        self.lines[2:] = ["    try:"] + ["    " + line for line in self.lines[2:]] + [
+            "    finally:", "        if clk >= 0: m.clock = clk"]
         marks = set()
         for ins in code.values():
             for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):

@@ -182,7 +182,7 @@ def leave(g, ind):
     frame some other word made, the reference loop)."""
     g.emit("_t = rs[-3]; del rs[-3:]", ind, "rs")
     g.emit("b = BMAP.get(_t)", ind)
-    g.emit("if b is None: return m.run_from(_t, d0)", ind, "d0")
+    g.emit("if b is None: m.clock = clk; clk = -1; return m.run_from(_t, d0)", ind, "d0")
     g.emit("continue", ind)
 
 
