@@ -3,7 +3,6 @@ and structure (never wall time)."""
 import sys
 
 import rcl
-from rcl.forth import compiler
 
 
 def body(m, name):

@@ -5,26 +5,25 @@ jumps back to the block's own start, such as
 
     : SUM  0 100 0 DO  I +  LOOP ;
 
-runs as one Python `while`, with the loop index, the limit, the virtual
-clock and (when the body leaves the stack as deep as it found it) the top
-of the data stack in Python locals:
+runs as one Python `while`, with the loop index and the limit in Python
+locals beside the clock (`clk`, a local of every compiled function), and,
+when the body leaves the stack as deep as it found it, the top of the data
+stack too:
 
-    _lim = rs[-2]; _i = rs[-1]; _clk = m.clock
+    _lim = rs[-2]; _i = rs[-1]
     _c = s.pop()                              # the top of stack, carried
-    try:
-        while True:
-            if _clk + 2000000 >= m.deadline:  # the usual check, each iteration
-                m.clock = _clk; _clk = -1; rs[-1] = _i; s.append(_c)
-                slow(m, SEQ0, 1000000)        # exact: one primitive at a time
-                _clk = m.clock; _i = rs[-1]; _c = s.pop()
-            else:
-                _clk += 3000000
-                t1 = (_i + _lim) & 0xFFFF     # I
-                _c = (_c + t1) & 0xFFFF
-            if _i != 32767: _i = _i + 1 & 0xFFFF; continue
-            break
-    finally:
-        if _clk >= 0: m.clock = _clk          # also when the body raises
+    while True:
+        if clk + 2000000 >= m.deadline:       # the usual check, each iteration
+            m.clock = clk; clk = -1; rs[-1] = _i; s.append(_c)
+            slow(m, SEQ1, 1000000)            # exact: one primitive at a time
+            clk = m.clock; _i = rs[-1]; _c = s.pop()
+        else:
+            clk += 3000000
+            t3 = (_i + _lim) & 0xFFFF         # I
+            t4 = (_c + t3) & 0xFFFF           # +
+            _c = t4
+        if _i != 32767: _i = _i + 1 & 0xFFFF; continue
+        break
     s.append(_c)
     del rs[-3:]
 
