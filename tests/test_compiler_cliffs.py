@@ -88,3 +88,18 @@ def test_forward_jumps_fall_through_the_guards_and_only_backward_ones_go_round()
     src = m.fn[body(m, "F")].source
     # Only (LOOP) jumps back: its taken branch (in the fast and in the slow path).
     assert src.count("continue") == 2
+
+
+def test_threaded_code_that_wraps_round_the_end_of_memory_compiles_and_runs_as_the_reference():
+    # X's code field points at DUP (in the last cells) and EXIT (across the
+    # wrap, its high byte at address 0); the compiler watches the wrapped cells
+    from rcl.forth.memory import WATCH_CODE
+
+    out = []
+    for compiled in (True, False):
+        m = rcl.Forth()
+        m.compiled = compiled
+        m.evaluate("CREATE X  ' DUP 65533 !  ' EXIT 65535 !  65533 ' X !  5 X")
+        out.append((m.stack, m.clock, m.watch[0xFFFF] & WATCH_CODE, m.watch[0] & WATCH_CODE))
+    assert out[0][:2] == out[1][:2] and out[0][0][0] == 5
+    assert out[0][2] and out[0][3]

@@ -488,7 +488,8 @@ class Gen(LoopGen):
         marks = set()
         for ins in code.values():
             for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):
-                marks.update(range(i.addr, i.next if i.next > i.addr else i.addr + 2))
+                span = (i.next - i.addr) & MASK or 2      # (code may wrap round
+                marks.update((i.addr + j) & MASK for j in range(span))   # memory's end)
                 marks.update((i.xt, (i.xt + 1) & MASK))
                 if i.op == "const":
                     marks.update((i.args[0], (i.args[0] + 1) & MASK))
