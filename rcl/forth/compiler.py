@@ -65,9 +65,8 @@ becomes a Python `while` with the index and the clock in locals
 (compile_loops.py).
 
 Locals (rcl/words/localvars.py) use the same idea for the return stack: a
-primitive may carry extra["compile"], which compiles it itself; a locals
-frame's cells stay Python names (`rs_known`) and the frame is pushed only
-before something that may look at the return stack (`forget_rs`).
+frame's cells stay Python names (`rs_known`), the frame pushed only before
+something that may look at the return stack (`forget_rs`).
 
 Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
@@ -77,8 +76,9 @@ from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
 from rcl.forth.primitives import HELPERS
 from rcl.forth.compile_loops import LoopGen
 from rcl.forth.control import BY_NAME as CONTROL_OPS
-from rcl.forth.decode import (NO_TERMINATOR, TERMINATORS, decode, rt_enter,  # noqa: F401
-                              rt_exit, walk)          # (decode: for SEE)
+from rcl.forth.decode import (NO_TERMINATOR, TERMINATORS, call_depth,  # noqa: F401
+                              decode, keeps_rs, literal_template, rt_2con,
+                              rt_con, rt_enter, rt_exit, walk)   # (decode: for SEE)
 from rcl.forth.inner import COMPILED, N, RSTACK_CELLS, rt_push
 
 DOCOL_N = N["(DOCOL)"]
@@ -100,14 +100,6 @@ def slow(m, seq, term_cost=None):
         if m.clock >= m.deadline:
             m.housekeep()
         m.clock += term_cost
-
-
-def rt_con(m, a):
-    m.s.append(m.memory.fetch(a))
-
-
-def rt_2con(m, a):
-    m.s.extend(m.memory.dfetch(a))
 
 
 # The locals a compiled function may bind, in order, and what they hold.
@@ -428,18 +420,8 @@ class Gen(LoopGen):
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
         them would overflow the return stack (then the slow path runs, and
-        overflows exactly where the real call would). A locals frame laid
-        down in the block counts too (extra["rs_cells"]: cells it pushes),
-        kept in Python names or not."""
-        depth, deepest = 0, None
-        for i in ops:
-            if i.op == "enter":
-                depth += 1
-                deepest = depth if deepest is None else max(deepest, depth)
-            elif i.op == "exit":
-                depth -= 1
-            elif i.op == "literal" and "rs_cells" in i.prim.extra:
-                depth += i.prim.extra["rs_cells"](i.args)
+        overflows exactly where the real call would)."""
+        deepest = call_depth(ops)
         if deepest is None:
             return ""
         self.uses.add("rs")
@@ -494,26 +476,6 @@ class Gen(LoopGen):
                 if i.op == "const":
                     marks.update((i.args[0], (i.args[0] + 1) & MASK))
         return "\n".join(self.lines), marks
-
-
-def literal_template(ins):
-    """The Template a literal-kind primitive makes from its inline cells
-    (extra["inline_args"]: the Locals word set's rs[-k]), or None."""
-    if ins.op != "literal" or "lit" in ins.prim.extra:
-        return None
-    make = ins.prim.extra.get("inline_args")
-    return make(ins.args) if make is not None else None
-
-
-def keeps_rs(ins, tpl=None):
-    """Does the compiled form of ins surely leave the return stack alone
-    (so that a locals frame kept in Python names need not be pushed)?"""
-    if ins.op in ("var", "const", "con", "2con", "enter", "exit"):
-        return True          # (an inlined call's fast path does not touch rs)
-    if ins.op == "literal" and "lit" in ins.prim.extra:
-        return True
-    tpl = tpl or (ins.prim.template if ins.op == "simple" else None)
-    return tpl is not None and "rs" not in tpl.uses
 
 
 def compile_code(m, entry):

@@ -11,6 +11,11 @@ such words) does not end the block; it becomes an "inline" instruction
 holding the callee's instructions between an "enter" and an "exit", which
 cost what the call and the EXIT cost and, run one at a time by the exact
 slow path, push and pop the return address as the real call does.
+
+Also here: what an instruction does to the return stack (`keeps_rs`,
+`call_depth`: for a locals frame kept in Python names, and for the overflow
+check of inlined calls), and the slow path's functions of instructions
+that have no primitive function of their own (rt_*).
 """
 from rcl.forth.control import BY_NAME as CONTROL_OPS
 from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args
@@ -124,10 +129,47 @@ def plain(ins):
     """Does ins only compute on the data stack and memory?"""
     if ins.op in ("var", "con", "const", "2con"):
         return True
-    if ins.op == "literal":
+    if ins.op == "literal":          # (not a locals frame's: never pasted elsewhere)
         return ins.prim.extra.get("lit") is not None
     t = ins.prim.template if ins.op == "simple" else None
     return t is not None and "rs" not in t.uses
+
+
+def literal_template(ins):
+    """The Template a literal-kind primitive makes from its inline cells
+    (extra["inline_args"]: the Locals word set's rs[-k]), or None."""
+    if ins.op != "literal" or "lit" in ins.prim.extra:
+        return None
+    make = ins.prim.extra.get("inline_args")
+    return make(ins.args) if make is not None else None
+
+
+def keeps_rs(ins, tpl=None):
+    """Does the compiled form of ins surely leave the return stack alone
+    (so that a locals frame kept in Python names need not be pushed)?"""
+    if ins.op in ("var", "const", "con", "2con", "enter", "exit"):
+        return True          # (an inlined call's fast path does not touch rs)
+    if ins.op == "literal" and "lit" in ins.prim.extra:
+        return True
+    tpl = tpl or (ins.prim.template if ins.op == "simple" else None)
+    return tpl is not None and "rs" not in tpl.uses
+
+
+def call_depth(ops):
+    """How deep an inlined call among ops (one block) takes the return
+    stack, counting from the block's start: the deepest "enter", with the
+    cells of a locals frame laid down before it (extra["rs_cells"]), kept
+    in Python names or not; None if no call was inlined."""
+    depth, deepest = 0, None
+    for i in ops:
+        if i.op == "enter":
+            depth += 1
+            deepest = depth if deepest is None else max(deepest, depth)
+        elif i.op == "exit":
+            depth -= 1
+        elif i.op == "literal" and "rs_cells" in i.prim.extra:
+            depth += i.prim.extra["rs_cells"](i.args)
+    return deepest
 
 
 def rt_enter(m, ret):
@@ -140,3 +182,11 @@ def rt_enter(m, ret):
 
 def rt_exit(m):
     m.rs.pop()
+
+
+def rt_con(m, a):
+    m.s.append(m.memory.fetch(a))
+
+
+def rt_2con(m, a):
+    m.s.extend(m.memory.dfetch(a))
