@@ -173,3 +173,29 @@ def test_an_error_inside_compiled_code_leaves_the_clock_where_the_block_put_it()
     with pytest.raises(rcl.ForthError):
         m.evaluate("W")
     assert m.clock > before + 50 * 3 * PRIM          # the loop's time up to the error is kept
+
+
+def test_an_inlined_call_after_code_that_grows_the_return_stack_overflows_where_the_real_call_does():
+    # >R (a template), N>R (Python code) and a locals frame before SQ's
+    # inlined call, at every return-stack depth near the limit
+    program = (": SQ  DUP * ;  : A  1 2 >R 5 SQ R> ;  : B  1 2 3 3 N>R 7 SQ NR> ;"
+               "  : C  4 {: a b :} a SQ b ;")
+    for word in ("A", "B", "C"):
+        out = []
+        for compiled in (True, False):
+            m = rcl.Forth()
+            m.compiled = compiled
+            m.evaluate(program)
+            seen = []
+            for depth in range(990, 1000):
+                m.rs.extend([0] * depth)
+                try:
+                    m.evaluate("9 8 " + word)
+                    seen.append(("ok", len(m.rs), m.stack))
+                except rcl.ForthError as e:
+                    seen.append((e.message, m.stack))
+                del m.rs[:], m.s[:]
+                seen.append(m.clock)
+            out.append(seen)
+        assert out[0] == out[1], word
+        assert "Return Stack Overflow" in str(out[0]) and "ok" in str(out[0]), word

@@ -71,7 +71,7 @@ class LoopGen:
         saved, self.lines = self.lines, []
         self.vs, self.dpl = (["_c"] if carry else []), None
         self.real_stack, self.in_loop, self.carried_used = False, True, False
-        self.index_atom = None
+        self.index_atom, self.open_calls, self.rs_unknown = None, 0, False
         for i in ops:                # (no Python primitive here: `rest` stays 0)
             self.op_simple(i, ind)
         step = self.take(1, ind)[0] if plus else None

@@ -77,7 +77,7 @@ from rcl.forth.primitives import HELPERS
 from rcl.forth.compile_loops import LoopGen
 from rcl.forth.control import BY_NAME as CONTROL_OPS
 from rcl.forth.decode import (NO_TERMINATOR, TERMINATORS, call_depth,  # noqa: F401
-                              decode, keeps_rs, literal_template, rt_2con,
+                              decode, keeps_rs, literal_template, rs_growth, rt_2con,
                               rt_con, rt_enter, rt_exit, walk)   # (decode: for SEE)
 from rcl.forth.inner import COMPILED, N, RSTACK_CELLS, rt_push
 
@@ -124,6 +124,8 @@ class Gen(LoopGen):
         self.rest = 0            # clock units clk holds beyond the primitive being emitted
         self.rs_known = None     # atoms known to be the top return-stack cells (locals)
         self.rs_pending = None   # a line pushing them, not yet emitted (see forget_rs)
+        self.open_calls = 0      # inlined calls entered and not left, in the fast path
+        self.rs_unknown = False  # Python code ran in this block: see call_check
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -223,8 +225,14 @@ class Gen(LoopGen):
         tpl = literal_template(ins)
         if not keeps_rs(ins, tpl):
             self.forget_rs(ind)
-        if op in ("enter", "exit"):                # an inlined call (decode.py): the
-            pass                                   # block's check saw the depth it needs
+        if rs_growth(ins) is None:
+            self.rs_unknown = True
+        if op == "enter":                          # an inlined call (decode.py): the
+            self.open_calls += 1                   # block's check saw the depth it needs,
+            if self.rs_unknown:                    # unless Python code ran before it
+                self.call_check(ind)
+        elif op == "exit":
+            self.open_calls -= 1
         elif op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants
@@ -331,6 +339,19 @@ class Gen(LoopGen):
         self.emit("if r != %d: return r" % ret, ind)
         self.goto_next(k, ret, ind)
 
+    def call_check(self, ind):
+        """An inlined call after Python code that may have moved the return
+        stack: overflow here if the real call would, counting what the fast
+        path never pushes (the open calls' return addresses, a frame kept
+        in Python names), with the data stack and clock the reference has."""
+        unseen = self.open_calls + (len(self.rs_known) if self.rs_pending else 0)
+        self.emit("if len(rs) > %d:" % (RSTACK_CELLS - unseen), ind, "rs")
+        vs, dpl = list(self.vs), self.dpl
+        self.flush(ind + 1)
+        self.vs, self.dpl = vs, dpl
+        self.clock_out(ind + 1)
+        self.emit("m.rs_overflow()", ind + 1)
+
     def forget_rs(self, ind):
         """Something may look at the return stack: lay down any cells kept
         back (a locals frame whose reads all came from Python names so far)."""
@@ -410,6 +431,7 @@ class Gen(LoopGen):
         self.emit("else:", ind)
         self.emit("clk += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl, self.index_atom, self.rs_known = [], None, None, None
+        self.open_calls, self.rs_unknown = 0, False
         self.rest = pre + tcost
         for i in ops:
             self.rest -= i.cost

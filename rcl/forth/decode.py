@@ -155,20 +155,34 @@ def keeps_rs(ins, tpl=None):
     return tpl is not None and "rs" not in tpl.uses
 
 
+def rs_growth(ins):
+    """Cells the compiled ins may push on the return stack, pops not counted
+    (an inlined call: its return address; a locals frame: its cells, pushed
+    or kept in Python names); None for Python code, which may do anything."""
+    if ins.op in ("enter", "exit"):
+        return 1 if ins.op == "enter" else -1
+    if ins.op in ("var", "const", "con", "2con"):
+        return 0
+    extra = ins.prim.extra
+    if ins.op == "literal" and ("lit" in extra or "rs_cells" in extra):
+        return extra["rs_cells"](ins.args) if "rs_cells" in extra else 0
+    tpl = literal_template(ins) or (ins.prim.template if ins.op == "simple" else None)
+    return tpl.rs_push if tpl is not None else None
+
+
 def call_depth(ops):
-    """How deep an inlined call among ops (one block) takes the return
-    stack, counting from the block's start: the deepest "enter", with the
-    cells of a locals frame laid down before it (extra["rs_cells"]), kept
-    in Python names or not; None if no call was inlined."""
+    """How deep the inlined calls among ops (one block) take the return
+    stack beyond its depth at the block's start, as far as that is known
+    before the block runs (up to the first Python code: calls after it are
+    checked where they are, Gen.call_check); None if none is."""
     depth, deepest = 0, None
     for i in ops:
+        grow = rs_growth(i)
+        if grow is None:
+            break
+        depth += grow
         if i.op == "enter":
-            depth += 1
             deepest = depth if deepest is None else max(deepest, depth)
-        elif i.op == "exit":
-            depth -= 1
-        elif i.op == "literal" and "rs_cells" in i.prim.extra:
-            depth += i.prim.extra["rs_cells"](i.args)
     return deepest
 
 

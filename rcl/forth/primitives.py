@@ -105,6 +105,27 @@ class Template:
         self.stmt = Part(word, inline[2], self.inputs, "exec") if len(inline) > 2 else None
         self.uses = set().union(*(o.uses for o in self.outputs),
                                 self.stmt.uses if self.stmt else ())
+        self.rs_push = rs_pushes(word, inline[2]) if len(inline) > 2 else 0
+
+
+def rs_pushes(word, stmt):
+    """How many cells a template's statement pushes on the return stack
+    (pops not counted): rs.append(x) one, rs.extend((x, ...)) as many as
+    written; any other growth is refused (the compiler must know the
+    depth an inlined call after it reaches)."""
+    n = 0
+    for node in ast.walk(ast.parse(stmt)):
+        f = node.func if isinstance(node, ast.Call) else None
+        if not (isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name)
+                and f.value.id == "rs"):
+            continue
+        if f.attr == "append":
+            n += 1
+        elif f.attr == "extend" and isinstance(node.args[0], ast.Tuple):
+            n += len(node.args[0].elts)
+        elif f.attr not in ("pop", "clear"):
+            raise ValueError("inline template of %s grows rs by rs.%s" % (word, f.attr))
+    return n
 
 
 REGISTRY = [None]            # number 0 is never a valid code field
