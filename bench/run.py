@@ -2,11 +2,13 @@
 
     python3 bench/run.py [--only NAME] [--repeat K]
 
-What is measured, for each bench/*.fs program (best wall-clock time of K
-runs, default 3):
+What is measured, for each bench/*.fs program (best time of K runs,
+default 3):
 
 * rcl: in-process, a fresh `rcl.Forth()` per run; only `m.evaluate(source)`
-  is timed (building the machine is not).  The machine's virtual clock after
+  is timed, in CPU time (building the machine is not). To compare two
+  trees (before and after a change), use bench/compare.py: alternating
+  runs, each in a fresh process.  The machine's virtual clock after
   the run (`m.seconds`, the time the program would take on the 1986 board)
   is shown as well when the machine has one.
 * gforth: `gforth FILE -e bye` as a subprocess, minus gforth's own start-up
@@ -62,9 +64,9 @@ def time_rcl(source, k):
     for _ in range(k):
         m = rcl.Forth()
         start = m.clock
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         out = m.evaluate(source)
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, time.process_time() - t0)
     return best, checksum(out), m.seconds, (m.clock - start) // DEFAULT_COST
 
 

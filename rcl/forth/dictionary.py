@@ -28,6 +28,7 @@ from rcl.forth.memory import (DICT_LIMIT, MASK, PAD_OFFSET, PRIM_LIMIT,
 IMMEDIATE = 0x40
 HIDDEN = 0x20
 NAME_MAX = 31
+CLEAR_HEADER = bytes(b & ~WATCH_HEADER for b in range(256))
 ORDER_MAX = 8
 
 
@@ -39,6 +40,7 @@ class Dictionary:
         self.memory = machine.memory
         self.cache = {}          # wid -> (head, generation, {name: [lfa...]})
         self.generation = 0
+        self.rebuilds = 0        # name tables built from memory (a cost worth watching)
 
     # ------------------------------------------------------------ space
     @property
@@ -137,6 +139,7 @@ class Dictionary:
         c = self.cache.get(wid)
         if c is None or c[0] != head or c[1] != self.generation:
             table = {}
+            self.rebuilds += 1
             for lfa in self.lfas(wid):
                 name = self.name_of((lfa + 2) & MASK)
                 if name is not None:
@@ -223,6 +226,10 @@ class Dictionary:
         lfa = max((mem.fetch(w) for w in wids), default=0)
         mem.store(m.a_last, lfa)
         self.here = addr
+        # The forgotten headers are gone: their bytes become plain data space
+        # again, so new definitions stored there do not flush the name cache.
+        end = DICT_LIMIT
+        mem.watch[addr:end] = mem.watch[addr:end].translate(CLEAR_HEADER)
         self.generation += 1
         m.invalidate()
 

@@ -36,8 +36,10 @@ is a tick fault: the board is told (it stops the motors and its tick), and
 the foreground gets an error that names the handler.
 """
 import math
+import os
 
 from rcl.errors import Bye, ForthError, Terminated, as_forth_error
+from rcl.forth import control
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import REGISTRY, prim
 
@@ -46,6 +48,8 @@ STACK_CELLS = 1000           # data stack limit (Stack Overflow beyond)
 RSTACK_CELLS = 1000          # return stack limit
 HOUSEKEEPING = 36_000_000 * 100   # check limits every 100 ms of virtual time
 HANDLER_LIMIT = 36_000_000 * 1000  # a handler running 1 s of virtual time is broken
+REACH = 8                    # no word indexes deeper into a stack without checking its depth
+WORD_FILES = (os.path.join(os.path.dirname(os.path.dirname(__file__)), "words") + os.sep,)
 
 
 # ---------------------------------------------------------------- runtimes
@@ -97,23 +101,12 @@ def domarker(m, xt, ret):
 
 
 # ------------------------------------------------------- control primitives
-# Their meaning lives in run_from and in the compiler; fn stays None.
+# Their meaning is in control.py (for run_from and the compiler); fn stays None.
 
-for _name, _effect in [
-        ("EXIT", "( -- ) return from the current definition"),
-        ("BRANCH", "( -- ) jump to the inline address"),
-        ("?BRANCH", "( f -- ) jump to the inline address if f is zero"),
-        ("(DO)", "( limit start -- ) R: -- exit limit' index'"),
-        ("(?DO)", "( limit start -- ) skip the loop if limit = start"),
-        ("(LOOP)", "( -- ) add 1 to the index; loop back unless it crossed"),
-        ("(+LOOP)", "( n -- ) add n to the index; loop back unless it crossed"),
-        ("(LEAVE)", "( -- ) leave the loop now"),
-        ("(?LEAVE)", "( f -- ) leave the loop if f is non-zero"),
-        ("(DOES>)", "( -- ) make the last word run the code after DOES>"),
-        ("EXECUTE", "( xt -- ) run the word xt")]:
-    prim(_name, _effect, kind="control")(None)
+for _op in control.OPS:
+    prim(_op.name, _op.effect, kind="control")(None)
 
-CONTROL = {p.number: p.name for p in REGISTRY[1:] if p.kind == "control"}
+CONTROL = {p.number: control.BY_NAME[p.name] for p in REGISTRY[1:] if p.kind == "control"}
 N = {p.name: p.number for p in REGISTRY[1:]}
 DOCOL = N["(DOCOL)"]
 
@@ -192,6 +185,24 @@ class Inner:
         if r != SENTINEL:
             self.run_from(r)
 
+    def forth_error(self, exc):
+        """The Forth error for exc, raised while Forth ran. An IndexError is
+        a stack underflow only when it came from a word's own code (a
+        primitive, a control operation, compiled code) and a stack really
+        ran short (or the word said so: a bare `raise IndexError`); any
+        other is a bug of ours, reported as an internal error."""
+        if not isinstance(exc, IndexError):
+            return as_forth_error(exc)
+        tb = exc.__traceback__
+        while tb is not None and tb.tb_next is not None:
+            tb = tb.tb_next
+        if tb is not None and word_code(tb.tb_frame.f_code):
+            if not exc.args or len(self.s) < REACH:
+                return ForthError(-4)
+            if len(self.rs) < REACH:
+                return ForthError(-6)
+        return ForthError(-4095, "Internal error: IndexError: %s" % exc)
+
     def rs_overflow(self):
         del self.rs[:]
         raise ForthError(-5)
@@ -203,13 +214,13 @@ class Inner:
         Stops when ip reaches SENTINEL, or, with `base`, at the EXIT that
         leaves the return stack below `base` (returning the popped ip).
         """
-        s, rs, fetch = self.s, self.rs, self.memory.fetch
+        rs, fetch = self.rs, self.memory.fetch
         while base is not None or ip != SENTINEL:
             xt = fetch(ip)
             ip = (ip + 2) & MASK
             cf = fetch(xt)
-            name = CONTROL.get(cf)
-            if name is None:
+            op = CONTROL.get(cf)
+            if op is None:
                 p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
                 if p is not None and p.kind == "literal":
                     if self.clock >= self.deadline:
@@ -225,43 +236,9 @@ class Inner:
             if self.clock >= self.deadline:
                 self.housekeep()
             self.clock += self.cost[cf]
-            if name == "EXIT":
-                ip = rs.pop()
-                if base is not None and len(rs) < base:
-                    return ip
-            elif name == "BRANCH":
-                ip = fetch(ip)
-            elif name == "?BRANCH":
-                ip = fetch(ip) if s.pop() == 0 else (ip + 2) & MASK
-            elif name in ("(DO)", "(?DO)"):
-                start, limit = s.pop(), s.pop()
-                if name == "(?DO)" and start == limit:
-                    ip = fetch(ip)
-                    continue
-                lim = (limit + 0x8000) & MASK
-                rs.extend((fetch(ip), lim, (start - lim) & MASK))
-                ip = (ip + 2) & MASK
-            elif name in ("(LOOP)", "(+LOOP)"):
-                n = 1 if name == "(LOOP)" else s.pop()
-                y = ((rs[-1] ^ 0x8000) - 0x8000) + ((n ^ 0x8000) - 0x8000)
-                if -0x8000 <= y <= 0x7FFF:
-                    rs[-1] = y & MASK
-                    ip = fetch(ip)
-                else:
-                    del rs[-3:]
-                    ip = (ip + 2) & MASK
-            elif name == "(LEAVE)" or (name == "(?LEAVE)" and s.pop()):
-                ip = rs[-3]
-                del rs[-3:]
-            elif name == "(DOES>)":
-                self.dictionary.set_does(ip)
-                ip = rs.pop()
-                if base is not None and len(rs) < base:
-                    return ip
-            elif name == "EXECUTE":
-                ip = self.call(s.pop(), ip)
-                if base is not None and len(rs) < base:
-                    return ip
+            ip = op.run(self, ip)
+            if op.leaves and base is not None and len(rs) < base:
+                return ip
         return ip
 
     # ------------------------------------------------ time and interrupts
@@ -344,7 +321,7 @@ class Inner:
             self.board.tick_failed()
         finally:
             self.board.stop_motors()
-        e = as_forth_error(exc) if not isinstance(exc, Bye) else ForthError(-290, "BYE")
+        e = self.forth_error(exc) if not isinstance(exc, Bye) else ForthError(-290, "BYE")
         text = {-1: "ABORT", -56: "QUIT"}.get(e.code) or e.display()
         return ForthError(-290, "%s in the tick handler %s; tick stopped, INSTALL "
                           "restarts it" % (text, self.handler_name(xt)))
@@ -418,6 +395,17 @@ class Inner:
         finally:
             self.waiting_until = None
         self.clock = max(self.clock, t)
+
+
+def word_code(code):
+    """Is this Python code a word's: a primitive, control.py, this module
+    (the reference loop) or compiled code?"""
+    name = code.co_filename
+    return (name == COMPILED or name.startswith(WORD_FILES)
+            or name in (__file__, control.__file__))
+
+
+COMPILED = "<forth>"         # the file name compiled code is given
 
 
 def decode_args(m, p, ip):

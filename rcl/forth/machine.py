@@ -13,7 +13,7 @@ import sys
 import threading
 
 from rcl.board import NullBoard
-from rcl.errors import Bye, ForthError, as_forth_error, file_error
+from rcl.errors import Bye, ForthError, file_error
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
@@ -260,7 +260,7 @@ class Forth(Inner, Outer):
         except Bye:
             raise
         except (Exception, KeyboardInterrupt) as exc:   # never a traceback
-            e = as_forth_error(exc)
+            e = self.forth_error(exc)
             if e.code == -56:              # QUIT: back to the prompt, stack kept
                 self.quit()
                 return None

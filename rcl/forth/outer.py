@@ -20,7 +20,7 @@ leaves compile state and drops every nested source, as F83's ABORT does.
 """
 from dataclasses import dataclass
 
-from rcl.errors import Bye, ForthError, as_forth_error
+from rcl.errors import Bye, ForthError
 from rcl.forth.memory import INPUT_AREA, MASK, SIZE
 from rcl.forth.numbers import convert
 
@@ -239,7 +239,7 @@ class Outer:
         except (Exception, KeyboardInterrupt) as exc:
             if isinstance(exc, Bye):
                 raise
-            e = as_forth_error(exc)
+            e = self.forth_error(exc)
             if e.file is None:
                 e.file, e.line = name, src.line
             raise e from None

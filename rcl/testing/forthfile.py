@@ -13,6 +13,7 @@ T{ ... }T that ran somewhere else (inside a definition, in an INCLUDE'd
 file) has no item of its own: a failure there fails `load`.
 """
 import os
+import types
 from dataclasses import dataclass, field
 
 import pytest
@@ -152,10 +153,20 @@ def skip(reason):
     raise pytest.skip.Exception(reason, _use_item_location=True)
 
 
+class FailureText(str):
+    """A failure's text. Its first line is what the short summary shows
+    (pytest 9 finds it in the text; pytest 8, the newest for Python 3.9 and
+    PyPy, looks for `reprcrash.message`)."""
+
+    @property
+    def reprcrash(self):
+        return types.SimpleNamespace(message=self.split("\n", 1)[0])
+
+
 class ForthItem(pytest.Item):
     def repr_failure(self, excinfo, style=None):
         if isinstance(excinfo.value, ForthTestFailure):
-            return str(excinfo.value)
+            return FailureText(excinfo.value)
         return super().repr_failure(excinfo, style)
 
 

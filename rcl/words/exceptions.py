@@ -3,7 +3,7 @@
 Every Forth error is a ForthError carrying a THROW code; CATCH catches it,
 puts the stacks back to their depths at CATCH and pushes the code.
 """
-from rcl.errors import ForthError, as_forth_error
+from rcl.errors import ForthError
 from rcl.forth.memory import MASK, signed
 from rcl.forth.primitives import prim
 
@@ -15,7 +15,7 @@ def catch(m):
     try:
         m.execute(xt)
     except (ForthError, IndexError, RecursionError) as exc:
-        e = as_forth_error(exc)
+        e = m.forth_error(exc)
         del m.rs[rdepth:]
         del m.s[depth:]
         m.s.extend([0] * (depth - len(m.s)))

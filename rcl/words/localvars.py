@@ -22,8 +22,10 @@ While a definition with locals is compiled, the outer interpreter asks
 `LocalScope.compile` first with each name (outer.py), so locals shadow
 every word; ; and TO know them too (compiling.py).
 """
+from functools import lru_cache
+
 from rcl.errors import ForthError
-from rcl.forth.primitives import BY_NAME, prim
+from rcl.forth.primitives import BY_NAME, Template, prim
 from rcl.words.compiling import DO_SYS, compile_name, compile_only, parse_word
 
 MAX_LOCALS = 32
@@ -60,19 +62,40 @@ def paren_unlocals(m, n):
     del m.rs[len(m.rs) - n:]
 
 
+# Each template is parsed once per distinct inline cells (primitives.Template).
+@lru_cache(maxsize=None)
 def frame_template(args):
     n, u = args
     if n > len(LETTERS):
         return None                        # a big frame runs through its function
     names = " ".join(LETTERS[:n])
     cells = ", ".join(list(LETTERS[:n]) + ["0"] * u)
-    return (names, (), "rs.extend((%s,))" % cells if cells else "pass")
+    return Template("(LOCALS)", (names, (), "rs.extend((%s,))" % cells if cells else "pass"))
+
+
+@lru_cache(maxsize=None)
+def fetch_template(args):
+    return Template("(LOCAL@)", ("", ("rs[-%d]" % args[0],)))
+
+
+@lru_cache(maxsize=None)
+def store_template(args):
+    return Template("(LOCAL!)", ("a", (), "rs[-%d] = a" % args[0]))
+
+
+@lru_cache(maxsize=None)
+def unframe_template(args):
+    return Template("(UNLOCALS)", ("", (), "del rs[-%d:]" % args[0]))
 
 
 BY_NAME["(LOCALS)"].extra["inline_args"] = frame_template
-BY_NAME["(LOCAL@)"].extra["inline_args"] = lambda a: ("", ("rs[-%d]" % a[0],))
-BY_NAME["(LOCAL!)"].extra["inline_args"] = lambda a: ("a", (), "rs[-%d] = a" % a[0])
-BY_NAME["(UNLOCALS)"].extra["inline_args"] = lambda a: ("", (), "del rs[-%d:]" % a[0])
+BY_NAME["(LOCAL@)"].extra["inline_args"] = fetch_template
+BY_NAME["(LOCAL!)"].extra["inline_args"] = store_template
+BY_NAME["(UNLOCALS)"].extra["inline_args"] = unframe_template
+# What each does to the return stack's depth: an inlined call after it must
+# overflow where the real one would (compiler.Gen.depth_check).
+BY_NAME["(LOCALS)"].extra["rs_cells"] = lambda args: args[0] + args[1]
+BY_NAME["(UNLOCALS)"].extra["rs_cells"] = lambda args: -args[0]
 
 
 # Within one block of compiled code (compiler.py) the locals' values are
@@ -85,6 +108,7 @@ def compile_frame(gen, args, ind):
     if n > len(LETTERS):
         return False
     gen.forget_rs(ind)
+    gen.index_atom = None                  # I's cells are no longer on top
     cells = gen.take(n, ind) + ["0"] * u
     gen.rs_known = cells
     gen.rs_pending = "rs.extend((%s,))" % ", ".join(cells) if cells else None
@@ -101,19 +125,21 @@ def compile_fetch(gen, args, ind):
 
 def compile_store(gen, args, ind):
     known, k = gen.rs_known, args[0]
+    gen.index_atom = None                  # (a store could hit a loop's cells)
     (atom,) = gen.take(1, ind)
     if known is not None and k <= len(known):
         known[-k] = atom
         if gen.rs_pending:                  # the frame, when pushed, holds it
             gen.rs_pending = "rs.extend((%s,))" % ", ".join(known)
             return True
-    gen.emit("rs[-%d] = %s" % (k, atom), ind)
+    gen.emit("rs[-%d] = %s" % (k, atom), ind, "rs")
     return True
 
 
 def compile_unframe(gen, args, ind):
     if gen.rs_pending is None:
-        gen.emit("del rs[-%d:]" % args[0], ind)
+        gen.emit("del rs[-%d:]" % args[0], ind, "rs")
+    gen.index_atom = None
     gen.rs_known = gen.rs_pending = None    # a frame never pushed is not popped
     return True
 

@@ -185,3 +185,39 @@ def test_sixteen_locals_or_more_are_supplied(sys_run):
     names = " ".join("L%d" % i for i in range(32))
     src = ": T {: %s :} L31 L0 ; " % names + " ".join(str(i) for i in range(32)) + " T"
     assert sys_run(src) == [31, 0]
+
+
+# --- with the compiler's inlining of small colon definitions -------------------------------
+
+def run_both_ways(program, line):
+    import rcl
+
+    out = []
+    for compiled in (True, False):
+        m = rcl.Forth()
+        m.compiled = compiled
+        m.evaluate(program)
+        try:
+            text = m.evaluate(line)
+        except rcl.ForthError as e:
+            text = "error: %s" % e.message
+        out.append((text, m.stack, m.clock, len(m.rs)))
+    return out
+
+
+def test_a_word_with_locals_is_called_not_pasted_into_its_caller(forth):
+    from rcl.forth.compiler import source
+
+    forth.evaluate(": ADD {: a b :} a b + ;  : USE  1 2 ADD ;")
+    assert "FN(" in source(forth, "USE")
+
+
+@pytest.mark.parametrize("frame, deepest", [("n", 500), ("n | x", 333), ("n | x y", 250)])
+def test_a_frame_before_an_inlined_call_overflows_the_return_stack_where_the_reference_does(
+        frame, deepest):
+    # the frame and SQ's inlined call are in one block: the block's depth
+    # check must count the frame's cells, kept in Python names or not
+    program = ": SQ  DUP * ;  : DEEP {: %s :}  5 SQ DROP  n IF n 1- RECURSE THEN ;" % frame
+    for depth in range(deepest - 6, deepest + 3):   # each level: its frame and return
+        fast, slow = run_both_ways(program, "%d DEEP" % depth)
+        assert fast == slow, depth

@@ -1,0 +1,69 @@
+"""Compare the Forth benchmarks between two rcl trees, in CPU time.
+
+    python3 bench/compare.py OLD_TREE NEW_TREE [--rounds N] [--only NAME]
+
+Each round runs every program once in each tree, alternating which tree
+goes first, each run in a fresh Python process (`time.process_time` around
+`m.evaluate(source)` only: building the machine is not timed). Alternating
+runs share the machine's load fairly between the two trees. Prints the
+best and the median CPU seconds of each, their ratio, and checks that both
+print the expected checksum and end on the same virtual clock.
+"""
+import argparse
+import json
+import pathlib
+import statistics
+import subprocess
+import sys
+
+BENCH = pathlib.Path(__file__).resolve().parent
+PROGRAMS = ['fib', 'sieve', 'loops', 'bubble']
+
+ONE_RUN = r'''
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+import rcl
+source = open(sys.argv[2]).read()
+m = rcl.Forth()
+t0 = time.process_time()
+out = m.evaluate(source)
+t = time.process_time() - t0
+print(json.dumps({"cpu": t, "out": out, "clock": m.clock}))
+'''
+
+
+def run(tree, program, python):
+    proc = subprocess.run([python, '-c', ONE_RUN, str(tree), str(BENCH / (program + '.fs'))],
+                          capture_output=True, text=True, check=True)
+    return json.loads(proc.stdout)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument('old')
+    ap.add_argument('new')
+    ap.add_argument('--rounds', type=int, default=5)
+    ap.add_argument('--only', choices=PROGRAMS)
+    ap.add_argument('--python', default=sys.executable, help='the interpreter to run')
+    args = ap.parse_args()
+    print('| benchmark | old CPU s (best / median) | new CPU s (best / median) | speed-up |')
+    print('|---|---:|---:|---:|')
+    for name in [args.only] if args.only else PROGRAMS:
+        times = {args.old: [], args.new: []}
+        results = {}
+        for r in range(args.rounds):
+            order = (args.old, args.new) if r % 2 == 0 else (args.new, args.old)
+            for tree in order:
+                res = run(tree, name, args.python)
+                times[tree].append(res['cpu'])
+                results.setdefault(tree, (res['out'], res['clock']))
+        same = results[args.old] == results[args.new]
+        old, new = times[args.old], times[args.new]
+        print('| %s | %.2f / %.2f | %.2f / %.2f | %.2fx%s |' % (
+            name, min(old), statistics.median(old), min(new), statistics.median(new),
+            statistics.median(old) / statistics.median(new),
+            '' if same else ' (OUTPUT OR CLOCK DIFFER)'))
+
+
+if __name__ == '__main__':
+    sys.exit(main())
