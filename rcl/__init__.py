@@ -48,15 +48,21 @@ def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (D
     board = board if board is not None else SimBoard()
     m = Forth(write=write, board=board)
     m.sim = Sim(board)
+    load_rcl(m, screens, image)
+    if realtime:
+        board.pacer = Pacer(m.clock)
+    return m
+
+
+def load_rcl(m, screens, image):
+    """RCL onto m's board: from a saved image, the screens (the installed
+    ones, or screens="folder"), or nothing (screens=False)."""
     m.screens_dir = screens if isinstance(screens, str) else SCREENS
     if image is not None:
         start_image(m, image)
     elif screens:
         m.include(os.path.join(m.screens_dir, "rcl.fs"))
     m.documented_end = m.dictionary.here      # HELP: later words are the user's
-    if realtime:
-        board.pacer = Pacer(m.clock)
-    return m
 
 
 def start_image(m, path):
@@ -80,10 +86,5 @@ def open_link(port, usb, write, screens, image):
     if server is not None:
         from rcl.sim.observe import Sim
         m.sim = Sim(server.board)
-    m.screens_dir = screens if isinstance(screens, str) else SCREENS
-    if image is not None:
-        start_image(m, image)
-    elif screens:
-        m.include(os.path.join(m.screens_dir, "rcl.fs"))
-    m.documented_end = m.dictionary.here      # HELP: later words are the user's
+    load_rcl(m, screens, image)
     return m
