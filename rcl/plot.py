@@ -166,6 +166,15 @@ def room_for_legend(ax, share=0.45):
     ax.set_ylim(low, high + share * (high - low))
 
 
+def finish_panel(ax, ylabel, title, columns=3):
+    """A right-hand panel's labels, grid and legend above its data."""
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    room_for_legend(ax)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper right", fontsize=7, ncol=columns)
+
+
 def draw_arrows(ax, track, x, y, first, last, colour, every):
     """The heading, an arrow every `every` feet of travel."""
     px, py, hd, gone = [], [], [], every / 2
@@ -208,11 +217,7 @@ def draw_speeds(ax, track, times):
     acc, dec = breakpoint_points(track, times)
     ax.plot(*acc, "^", color="green", ms=6, label="acceleration ends")[0].set_gid("acc-end")
     ax.plot(*dec, "v", color="purple", ms=6, label="deceleration begins")[0].set_gid("dec-start")
-    ax.set_ylabel("speed, in/s")
-    ax.set_title("wheel speeds and each move's breakpoints")
-    room_for_legend(ax)
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper right", fontsize=7, ncol=3)
+    finish_panel(ax, "speed, in/s", "wheel speeds and each move's breakpoints")
 
 
 def breakpoint_points(track, times):
@@ -244,11 +249,7 @@ def draw_positions(ax, track, times):
                     label="%s commanded" % wheel if k == 0 else None)
             ax.plot(t, [sign * (c[i] - c[move.first]) for i in rows], color=colour, lw=1,
                     label="%s encoder" % wheel if k == 0 else None)
-    ax.set_ylabel("counts along the move")
-    ax.set_title("commanded position against the encoders")
-    room_for_legend(ax)
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper right", fontsize=7, ncol=2)
+    finish_panel(ax, "counts along the move", "commanded position against the encoders", columns=2)
 
 
 def draw_following(ax, track, times, limit):
@@ -267,11 +268,7 @@ def draw_following(ax, track, times, limit):
         m = ax.plot([times[i] for i, _ in trips], [errs[w][i] for i, w in trips], "X",
                     color="red", ms=12, label="following error: stopped")[0]
         m.set_gid("tripped")
-    ax.set_ylabel("following error, counts")
-    ax.set_title("commanded minus encoder (following error)")
-    room_for_legend(ax)
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper right", fontsize=7, ncol=3)
+    finish_panel(ax, "following error, counts", "commanded minus encoder (following error)")
 
 
 def gapped(err, times):

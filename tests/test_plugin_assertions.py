@@ -7,6 +7,7 @@ import pathlib
 import pytest
 
 import rcl
+from inner_pytest import run
 from rcl.testing import (assert_arm, assert_motors_off, assert_no_following_error,
                          assert_pose, assert_time_of_day, assert_wheel_counts, robot)
 
@@ -124,8 +125,7 @@ def test_a_python_test_that_fails_reports_the_robot_in_pytest(pytester):
             rcl_robot.evaluate("1 FEET FORWARD")
             assert_pose(rcl_robot, x=10, inches=0.5)
     """)
-    result = pytester.runpytest_inprocess("-p", "no:cacheprovider", "-p", "no:hypothesispytest",
-                                          "--assert=plain")
+    result = run(pytester)
     result.assert_outcomes(failed=1)
     result.stdout.fnmatch_lines([
         ">       assert_pose(rcl_robot, x=10, inches=0.5)",

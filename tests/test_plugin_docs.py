@@ -7,6 +7,8 @@ import re
 import rcl
 import rcl.testing.forthfile  # noqa: F401  (imported once here, not in every inner run)
 
+from inner_pytest import run
+
 DOC = pathlib.Path(__file__).parent.parent / "docs" / "testing.md"
 BLOCK = re.compile(r"```(?:forth|python)\n(.*?)```", re.S)
 NAMED = re.compile(r"^(?:\\|#) (?:rcl: \w+\n\\ )?(\w+\.(?:fs|py)):")
@@ -21,10 +23,6 @@ def example_files():
             files[match.group(1)] = block
     return files
 
-
-def run(pytester, *args):
-    return pytester.runpytest_inprocess("-p", "no:cacheprovider", "-p", "no:hypothesispytest",
-                                        "--assert=plain", *args)
 
 
 def test_the_pages_example_files_are_all_there():

@@ -8,14 +8,10 @@ import shutil
 import rcl
 import rcl.testing  # noqa: F401  (imported once here, not in every inner run)
 
+from inner_pytest import run
+
 EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
 
-
-def run(pytester, *args):
-    """pytest in this process: without hypothesis's plugin and assertion
-    rewriting, which would import and rewrite their modules in every run."""
-    return pytester.runpytest_inprocess("-p", "no:cacheprovider", "-p", "no:hypothesispytest",
-                                        "--assert=plain", "-rfs", *args)
 
 
 def test_each_test_gets_a_fresh_robot_and_a_fresh_bare_machine(pytester):
@@ -34,7 +30,7 @@ def test_each_test_gets_a_fresh_robot_and_a_fresh_bare_machine(pytester):
             with pytest.raises(rcl.ForthError, match=r"V  \\?"):
                 rcl_forth.evaluate("' V")
     """)
-    run(pytester).assert_outcomes(passed=2)
+    run(pytester, "-rfs").assert_outcomes(passed=2)
 
 
 def test_the_robot_has_rcl_loaded_and_the_bare_machine_does_not(pytester):
@@ -49,7 +45,7 @@ def test_the_robot_has_rcl_loaded_and_the_bare_machine_does_not(pytester):
             with pytest.raises(rcl.ForthError, match=r"FEET  \\?"):
                 rcl_forth.evaluate("3.5 FEET")
     """)
-    run(pytester).assert_outcomes(passed=2)
+    run(pytester, "-rfs").assert_outcomes(passed=2)
 
 
 def test_configured_files_load_into_every_machine_from_the_rootdir(pytester):
@@ -66,7 +62,7 @@ def test_configured_files_load_into_every_machine_from_the_rootdir(pytester):
         "def test_box(rcl_robot):\n    rcl_robot.evaluate(\"' BOX DROP\")\n"
         "def test_sq(rcl_forth):\n    rcl_forth.evaluate('3 SQ')\n"
         "    assert rcl_forth.stack == [9]\n")
-    run(pytester).assert_outcomes(passed=2)
+    run(pytester, "-rfs").assert_outcomes(passed=2)
 
 
 def test_a_marker_loads_more_files_beside_the_test(pytester):
@@ -79,7 +75,7 @@ def test_a_marker_loads_more_files_beside_the_test(pytester):
             rcl_robot.evaluate("PATROL")
             assert rcl_robot.sim.pose[0] > 11
     """)
-    run(pytester).assert_outcomes(passed=1)
+    run(pytester, "-rfs").assert_outcomes(passed=1)
 
 
 def test_a_file_that_does_not_load_is_a_clear_setup_error(pytester):
@@ -91,7 +87,7 @@ def test_a_file_that_does_not_load_is_a_clear_setup_error(pytester):
         def test_x(rcl_robot):
             pass
     """)
-    result = run(pytester)
+    result = run(pytester, "-rfs")
     result.assert_outcomes(errors=1)
     result.stdout.fnmatch_lines(["*rcl could not load the test's files: *broken.fs:2: NOSUCH  ?"])
     assert "Traceback" not in result.stdout.str()
@@ -113,12 +109,12 @@ def test_the_plugins_names_leave_a_users_own_fixtures_alone(pytester):
         def test_mine(robot, forth, rcl_robot):
             assert (robot, forth) == ("my own robot", "my own forth")
     """)
-    run(pytester).assert_outcomes(passed=1)
+    run(pytester, "-rfs").assert_outcomes(passed=1)
 
 
 def test_a_project_without_rcl_tests_runs_as_before(pytester):
     pytester.makepyfile("def test_plain():\n    assert 1 + 1 == 2\n")
     (pytester.path / "words.fs").write_text("T{ 1 -> 2 }T\n")     # not test_*.fs
-    result = run(pytester, "-v")
+    result = run(pytester, "-rfs", "-v")
     result.assert_outcomes(passed=1)
     result.stdout.fnmatch_lines(["*test_plain PASSED*"])
