@@ -113,20 +113,20 @@ def user_tick(m):
     return v[2] | (v[3] << 8), v[0] | (v[1] << 8)
 
 
-def ticking(m):
-    """Timer 0 runs and interrupts, unmasked, and INT 1Ch is a Forth word:
-    something can run every tick."""
+def check_ticking(m):
+    """Abort unless timer 0 runs and interrupts, unmasked, and INT 1Ch is a
+    Forth word: unless something can run every tick."""
     b = m.board
     control, mask = b.in16(PCB_T0_CONTROL), b.in16(PCB_TIMER_MASK)
-    return (control & (T0_EN | T0_INT)) == T0_EN | T0_INT and not mask & TIMER_MSK \
-        and user_tick(m)[0] == FORTH_CS
+    if (control & (T0_EN | T0_INT)) != T0_EN | T0_INT or mask & TIMER_MSK \
+            or user_tick(m)[0] != FORTH_CS:
+        raise ForthError(-2, "Control loop not running (INSTALL starts it)")
 
 
 @prim("?TICKING", "( -- ) abort unless timer 0 interrupts, unmasked, into a "
       "Forth word on INT 1Ch (a wait could not end otherwise)", hidden=True, cost=CODE_COST)
 def q_ticking(m):
-    if not ticking(m):
-        raise ForthError(-2, "Control loop not running (INSTALL starts it)")
+    check_ticking(m)
 
 
 def quiet(m):
@@ -147,8 +147,7 @@ def paren_ms(m):
     # : MS  0 ?DO 33 0 DO LOOP LOOP ;  costs 4 + 37n primitives; `: MS (MS) ;`
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
     n = 1 + 37 * m.s.pop()
-    if not ticking(m):
-        raise ForthError(-2, "Control loop not running (INSTALL starts it)")
+    check_ticking(m)
     c, board = m.cost[DOCOL], m.board
     board.wait_started()
     while n > 0:
