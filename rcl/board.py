@@ -25,6 +25,7 @@ the machine owns its clock and no board assigns it):
     machine.request_stop(e)  raise error e at the foreground's next
                              primitive boundary (a lost link)
     machine.in_forth, .masked  Forth is running (a word, or a handler)
+    machine.in_safe_state    the abort hooks run (after an error, Ctrl-C)
     machine.mem, machine.memory.cstore   the Forth segment's 64 KiB
 
 Implementations: rcl.sim.board.SimBoard (the simulated R-E Robot board),

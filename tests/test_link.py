@@ -188,3 +188,14 @@ def test_sequence_numbers_wrap_past_255_without_losing_a_request(linked):
     assert served.stats["duplicates"] <= m.board.retries
     assert served.stats["acted"] - acted >= 600
     assert m.board.seq == served.expected != 0
+
+
+def test_a_command_typed_soon_after_the_link_was_lost_at_the_prompt_is_stopped_not_answered_with_ff(linked):
+    m = linked("rclsim://")
+    server = m.board.port.server
+    server.cut_link()
+    assert wait_for(lambda: m.board.lost)            # lost while rcl waited at the prompt
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("HEX FF56 P@ U. DECIMAL")      # within RECONNECT's half second
+    assert e.value.screen() == " Link lost "
+    assert "FFFF" not in m.take_output()              # no made-up value was printed

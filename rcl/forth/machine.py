@@ -69,6 +69,7 @@ class Forth(Inner, Outer):
         self.key_ready = None          # callable() -> bool, for KEY?
         self.in_input = False          # waiting in read_key/read_line
         self.in_forth = 0              # evaluate/include calls under way
+        self.in_safe_state = False     # running the abort hooks (after an error)
         self._init_inner()
         self._init_outer()
         from rcl.words.blocks import BlockFile

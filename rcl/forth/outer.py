@@ -276,8 +276,12 @@ class Outer:
         self.break_pending = bool(self.leave_signal)   # Ctrl-C is answered; a quit is not
         self.stop_error = None
         system = self.memory.fetch((self.xt_of["SAFE-STATE"] + 2) & MASK)
-        for xt in ([system] if system else []) + [self.xt_of["ON-ABORT"]]:
-            self.run_hook(xt)
+        self.in_safe_state = True
+        try:
+            for xt in ([system] if system else []) + [self.xt_of["ON-ABORT"]]:
+                self.run_hook(xt)
+        finally:
+            self.in_safe_state = False
         self.board.stop_motors()
 
     def run_hook(self, xt):

@@ -272,11 +272,15 @@ class LinkBoard(Board):
     def usable(self):
         """True when the link is up. A lost link is tried again, at most
         every RECONNECT_AFTER seconds: the abort that follows the loss
-        (ON-ABORT's relay writes) finds it quietly unusable; a command
-        after that finds it reconnected, or is stopped with Link lost."""
+        (its safe-state relay writes) finds it quietly unusable; any other
+        request finds it reconnected, or is stopped with Link lost (a read
+        on a lost link has no true answer to give)."""
         if not self.lost:
             return True
-        if self.in_tick or time.monotonic() - self.lost_at < RECONNECT_AFTER:
+        if self.in_tick or self.machine.in_safe_state:
+            return False
+        if time.monotonic() - self.lost_at < RECONNECT_AFTER:
+            self.machine.request_stop(link_lost())
             return False
         self.lost_at = time.monotonic()
         try:
