@@ -31,7 +31,7 @@ else is taken as the power-on IRET.
 """
 import collections
 
-from rcl.board import CLOCK_HZ, FORTH_CS, Board
+from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
@@ -48,7 +48,7 @@ EOI_TIMER = 0x0008
 class SimBoard(Board):
     """The default board: everything a user's RCL program drives."""
 
-    def __init__(self):
+    def __init__(self, port_log=False):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
         self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
@@ -60,7 +60,9 @@ class SimBoard(Board):
         self.physics_ms = 0
         self.ticks = 0                    # timer-0 interrupts serviced
         self.overruns = 0                 # handlers still running at the next tick
-        self.port_log = collections.deque(maxlen=100_000)   # (clock, port, value)
+        # (clock, port, value) of the last 100,000 writes, only when asked
+        # for (rcl-board's --report): nobody else reads it
+        self.port_log = collections.deque(maxlen=100_000) if port_log else None
         self.beeps = []                   # [start, end] in clock units
         self.observers = []               # callables(board) after each tick
         self.pacer = None                 # real-time pacing, when set
@@ -112,8 +114,11 @@ class SimBoard(Board):
 
     # ------------------------------------------------------------- ports
     def out8(self, port, byte):
-        now = self.sync()
-        self.port_log.append((now, port, byte))
+        self._out8(port, byte, self.sync())
+
+    def _out8(self, port, byte, now):
+        if self.port_log is not None:
+            self.port_log.append((now, port, byte))
         if port in (C.MOTOR_PORT, C.AUX_PORT):
             self._latch(port, byte, now)
         elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
@@ -129,7 +134,9 @@ class SimBoard(Board):
             self._pcb_write(port & 0xFE, word, now)
 
     def in8(self, port):
-        now = self.sync()
+        return self._in8(port, self.sync())
+
+    def _in8(self, port, now):
         if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
             base = port & ~3
             if port & 3 == 0:
@@ -145,7 +152,8 @@ class SimBoard(Board):
     def out16(self, port, word):
         if port >= C.PCB_BASE:            # the PCB takes whole words
             now = self.sync()
-            self.port_log.append((now, port, word))
+            if self.port_log is not None:
+                self.port_log.append((now, port, word))
             self._pcb_write(port & 0xFFFE, word, now)
         else:                             # external: two byte cycles
             super().out16(port, word)
@@ -154,6 +162,16 @@ class SimBoard(Board):
         if port >= C.PCB_BASE:
             return self.pcb.read16(port & 0xFE, self.pcb_time(self.sync()))
         return super().in16(port)
+
+    def port_script(self, ops):
+        """The ops at one moment: one sync, then each as out8/in8 would."""
+        now, reads = self.sync(), []
+        for op, port, value in ops:
+            if op == OUT8:
+                self._out8(port, value, now)
+            else:
+                reads.append(self._in8(port, now) & 0xFF)
+        return reads
 
     def _pcb_write(self, offset, word, now):
         self.pcb.write16(offset & 0xFF, word, self.pcb_time(now))
