@@ -125,9 +125,10 @@ class SimBoard(Board):
             base = port & ~3
             if self.touches_counter0(port, byte):
                 self._clock_ref(base, now)
-            self.chips[base].write(port & 3, byte)
-            if self.touches_counter0(port, byte):
+                self.chips[base].write(port & 3, byte)
                 self.refs = self.references()
+            else:
+                self.chips[base].write(port & 3, byte)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
@@ -209,6 +210,14 @@ class SimBoard(Board):
         """Bring the physics up to the machine's clock; -> the clock."""
         now = self.machine.clock
         target = now // MS
+        if self.physics_ms < target:      # else already there (most port accesses)
+            self.physics_to(target)
+        self.clock = now
+        return now
+
+    def physics_to(self, target):
+        """Physics up to millisecond `target`: jumped over while nothing
+        moves, in closed form at steady speed, else 1 ms at a time."""
         while self.physics_ms < target:
             if self.is_idle():
                 self.physics_ms = target
@@ -217,8 +226,6 @@ class SimBoard(Board):
                 self.cruise(target - self.physics_ms)
                 break
             self.step_ms()
-        self.clock = now
-        return now
 
     def is_idle(self):
         """Nothing moves and nothing would start moving."""
@@ -265,7 +272,8 @@ class SimBoard(Board):
         the machine, and nothing happens in between."""
         if now is None:
             now = self.clock if self.machine is None else self.machine.clock
-        return max(now, self.pcb.clock)
+        c = self.pcb.clock
+        return now if now > c else c
 
     def service(self, m):
         """An interrupt request: the simulated BIOS handles timer 0. The EOI
