@@ -30,6 +30,7 @@ INT 1Ch pointing into the Forth segment runs that Forth word; anything
 else is taken as the power-on IRET.
 """
 import collections
+import struct
 
 from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
 from rcl.sim import constants as C
@@ -43,6 +44,7 @@ BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
 TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
 EOI_TIMER = 0x0008
+DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 
 
 class SimBoard(Board):
@@ -290,9 +292,10 @@ class SimBoard(Board):
         nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
         try:
             self.bios_tick(m)
-        finally:
-            self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
-            self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
+        except BaseException:
+            self.end_of_interrupt(m)
+            raise
+        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
         if self.batch_idle_ticks(m):
             nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
         self.due = nxt
@@ -302,6 +305,12 @@ class SimBoard(Board):
             observe(self)
         if self.pacer is not None:
             self.pacer.wait(m.clock)
+
+    def end_of_interrupt(self, m):
+        """The EOI, and the next interrupt from there (after a handler
+        failed: it may have left the timer anywhere)."""
+        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+        self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
 
     def batch_idle_ticks(self, m):
         """While the machine only waits and INT 1Ch does nothing, every tick
@@ -331,11 +340,11 @@ class SimBoard(Board):
 
     def count_ticks(self, n):
         """Add n ticks to the BIOS time of day, wrapping at midnight (flag set)."""
-        per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
-        count = self.low_fetch32(TICKS_ADDR) + n
+        per_day = max(1, DWORD.unpack_from(self.low, PER_DAY_ADDR)[0])
+        count = DWORD.unpack_from(self.low, TICKS_ADDR)[0] + n
         if count >= per_day:
             self.low[MIDNIGHT_ADDR] = 1
-        self.low_store32(TICKS_ADDR, count % per_day)
+        DWORD.pack_into(self.low, TICKS_ADDR, count % per_day)
 
     def tick_period(self):
         """Clock units between timer-0 ticks (prescaled by timer 2 or not)."""
