@@ -173,11 +173,12 @@ class Timer:
 
     def steps_to_expiry(self):
         """Input clocks until the count next equals the max count."""
-        return (self.limit() - self.count) % COUNT_RANGE or COUNT_RANGE
+        limit = (self.max_b if self.control & RIU else self.max_a) or COUNT_RANGE
+        return (limit - self.count) % COUNT_RANGE or COUNT_RANGE
 
     def advance(self, n):
         """Count n input clocks; return (expiries, input clock of the first)."""
-        if not (self.control & (EN)):
+        if not n or not (self.control & (EN)):
             return 0, None
         d, first, total = self.steps_to_expiry(), None, 0
         while (self.control & (EN)) and n >= d:
@@ -341,8 +342,10 @@ class Timer80188:
     def acknowledge(self, now):
         """The CPU takes the timer interrupt: return its type, set in-service."""
         self.catch_up(now)
-        timer = next((t for t in self.timers if t.pending_at is not None), None)
-        if timer is None:
+        for timer in self.timers:           # timer 0 before 1 before 2
+            if timer.pending_at is not None:
+                break
+        else:
             return None
         self.missed += max(0, timer.requests - 1)
         timer.requests, timer.pending_at = 0, None
