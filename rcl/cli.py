@@ -109,7 +109,9 @@ def make_machine(args, write):
     """The machine the command line drives: the simulated board with RCL
     (rcl.open), the board alone (--board-only), or plain Forth (--bare);
     from a saved system with --image; its time of day from --start."""
-    from rcl.forth.image import ImageError, load
+    ImageError = ()                     # catches nothing: no image to refuse
+    if args.image:                      # (image.py's hashing is not loaded otherwise)
+        from rcl.forth.image import ImageError, load
     try:
         if args.bare:
             m = rcl.Forth(write=write)
