@@ -124,13 +124,13 @@ class SimBoard(Board):
         if port in (C.MOTOR_PORT, C.AUX_PORT):
             self._latch(port, byte, now)
         elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base = port & ~3
-            if self.touches_counter0(port, byte):
+            base, a = port & ~3, port & 3
+            if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
                 self._clock_ref(base, now)
-                self.chips[base].write(port & 3, byte)
-                self.refs = self.references()
+                self.chips[base].write(a, byte)
+                self.refs = self.references()   # the speed reference may have changed
             else:
-                self.chips[base].write(port & 3, byte)
+                self.chips[base].write(a, byte)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
@@ -191,11 +191,6 @@ class SimBoard(Board):
                     self.beeps[-1][1] = now
             self.aux_latch = byte
 
-    @staticmethod
-    def touches_counter0(port, byte):
-        """A write to counter 0, or a control word selecting it (SC = 00)."""
-        return port & 3 == 0 or (port & 3 == 3 and not byte & 0xC0)
-
     def _clock_ref(self, base, now):
         """Bring counter 0 (the 125 kHz speed reference) up to now."""
         pulses = now * C.F_8253_CLK // CLOCK_HZ
@@ -204,8 +199,9 @@ class SimBoard(Board):
 
     def references(self):
         """The two PLL reference frequencies, Hz (0 if not running)."""
-        return tuple(self.chips[b].counters[0].frequency(C.F_8253_CLK)
-                     for b in (C.LEFT_8253, C.RIGHT_8253))
+        chips = self.chips
+        return (chips[C.LEFT_8253].counters[0].frequency(C.F_8253_CLK),
+                chips[C.RIGHT_8253].counters[0].frequency(C.F_8253_CLK))
 
     # ----------------------------------------------------------- physics
     def sync(self):
