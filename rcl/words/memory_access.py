@@ -59,12 +59,16 @@ def two_store(m):
     m.memory.dstore(a, lo, hi)
 
 
-@prim("ON", "( addr -- ) store -1")
+@prim("ON", "( addr -- ) store -1", memory=True, inline=("a", (), (
+    "mem[a] = 255; mem[(a + 1) & 0xFFFF] = 255\n"
+    "if W[a] or W[(a + 1) & 0xFFFF]: m.watched(a)")))
 def on(m):
     m.memory.store(m.s.pop(), MASK)
 
 
-@prim("OFF", "( addr -- ) store 0")
+@prim("OFF", "( addr -- ) store 0", memory=True, inline=("a", (), (
+    "mem[a] = 0; mem[(a + 1) & 0xFFFF] = 0\n"
+    "if W[a] or W[(a + 1) & 0xFFFF]: m.watched(a)")))
 def off(m):
     m.memory.store(m.s.pop(), 0)
 
