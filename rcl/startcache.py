@@ -144,8 +144,8 @@ def open_loaded(screens_dir, write, load):
     """A system with RCL loaded from screens_dir: a copy of the one kept, or
     load() -> a machine (with no output callback), kept for next time."""
     k = key(screens_dir)
-    data = fetch(k)
-    if data is None:
+    m = copy_of(k, fetch(k))
+    if m is None:
         m = load()
         if m.out:                           # the load said something: not the same
             if write is not None:           # every time, so not kept
@@ -155,8 +155,20 @@ def open_loaded(screens_dir, write, load):
             return m
         data = snapshot(m)
         keep(k, data)
-    # A copy even the first time: pickling asked every object for its
-    # __dict__, which leaves the loaded system slower (see _Pickler).
-    m = pickle.loads(data)
+        # A copy even the first time: pickling asked every object for its
+        # __dict__, which leaves the loaded system slower (see _Pickler).
+        m = pickle.loads(data)
     m.write = write
     return m
+
+
+def copy_of(k, data):
+    """The system pickled in data, or None (no data, or none this code can
+    read: it is forgotten, and the screens are loaded again)."""
+    if data is None:
+        return None
+    try:
+        return pickle.loads(data)
+    except Exception:                       # noqa: B902  (whatever a stale pickle raises)
+        _kept.pop(k, None)
+        return None

@@ -93,3 +93,11 @@ def test_a_cache_folder_that_cannot_be_made_means_loading_every_time(tmp_path, m
     m = rcl.open()
     assert m.evaluate("1 2 + .") == "3 "
     assert blocker.read_text() == "not a folder"
+
+
+def test_a_kept_copy_this_code_cannot_read_is_forgotten_and_the_screens_loaded(cache):
+    rcl.open()
+    k = startcache.key(rcl.SCREENS)
+    startcache._kept[k] = b"not a pickle"
+    m = rcl.open()
+    assert m.evaluate("1 2 + .") == "3 " and startcache._kept[k] != b"not a pickle"
