@@ -393,19 +393,7 @@ class SimBoard(Board):
                 or self.pacer is not None or not self.is_idle() \
                 or not self.observers_allow_batching():
             return n
-        clock, ticks, last = m.clock, 0, None
-        limit = m.budget_end                      # a step budget still applies
-        while n > 0:
-            k = max(0, -(-(d - clock) // c))      # primitives until the tick
-            if k >= n:
-                clock += n * c
-                n = 0
-                break
-            if clock + k * c + cost >= limit:
-                break
-            clock += k * c + cost                 # run up to it, then the handler
-            n -= k
-            ticks, last, d = ticks + 1, d, d + period
+        clock, n, ticks, last = count_out(m.clock, n, c, d, period, cost, m.budget_end)
         if ticks:
             self.pcb.take_timer0_requests(last)
             self.pcb.acknowledge(last)
@@ -439,3 +427,55 @@ class SimBoard(Board):
         self.pcb.write16(0x56, (control & ~INT_BIT) | INH_BIT, now)
         self.pcb.drop_requests(0, now)
         self.refresh_due()
+
+
+def count_out(clock, n, c, d, period, cost, limit):
+    """n primitives of c clock units from `clock`, a tick due at d and every
+    period after, each tick's handler taking `cost`, all before `limit`
+    (a step budget): -> (clock, primitives left, ticks, the last one's due
+    time or None). As the loop below would, primitive by primitive; once
+    the ticks come at a steady rhythm, whole runs of them at once."""
+    ticks, last, jumped = 0, None, False
+    while n > 0:
+        if ticks and not jumped and period - cost >= c and d > clock:
+            jumped = True                         # each tick now comes after >= 1 primitive
+            j, used = ticks_before(d - clock, n, c, period, cost, limit - clock)
+            if j:
+                clock += used * c + j * cost
+                n -= used
+                ticks, last, d = ticks + j, d + (j - 1) * period, d + j * period
+                continue
+        k = max(0, -(-(d - clock) // c))          # primitives until the tick
+        if k >= n:
+            return clock + n * c, 0, ticks, last
+        if clock + k * c + cost >= limit:
+            break
+        clock += k * c + cost                     # run up to it, then the handler
+        n -= k
+        ticks, last, d = ticks + 1, d, d + period
+    return clock, n, ticks, last
+
+
+def ticks_before(r, n, c, period, cost, room):
+    """How many ticks count_out's loop takes when the first is r > 0 clock
+    units away and each next one comes period - cost after the last handler
+    ends (at least c): the most j whose primitives K(j) are fewer than n
+    and whose time K(j)*c + j*cost is within room; -> (j, K(j)).
+    The primitive before tick i overshoots it by e_i = (-r_i) mod c, and
+    r_(i+1) = period - cost - e_i, so e_i = (e_1 + (i-1)(cost - period))
+    mod c and K(j) = (r + (j-1)(period - cost) + e_j) / c: searched by
+    bisection."""
+    e1 = -r % c
+
+    def used(j):
+        return (r + (j - 1) * (period - cost) + (e1 + (j - 1) * (cost - period)) % c) // c
+
+    lo, hi = 0, n                                 # j = n needs at least n primitives
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        k = used(mid)
+        if k < n and k * c + mid * cost < room:
+            lo = mid
+        else:
+            hi = mid
+    return lo, used(lo) if lo else 0
