@@ -17,7 +17,8 @@ key lists rcl's version, the Python implementation, the screens folder,
 and the name, size and modification time of every file of the rcl package
 and of the screens folder; the file stores the key in full and a CRC of
 the payload, and anything that does not match (another build, a damaged
-or half-written file) is ignored and written again. The file is trusted
+or half-written file) is ignored and written again; copies no start has
+written for a week (other builds') are removed. The file is trusted
 as Python trusts its own __pycache__: both are written by the user's own
 account, and a cache folder that cannot be written just means no cache.
 
@@ -31,6 +32,7 @@ import io
 import os
 import pickle
 import sys
+import time
 import zlib
 
 import rcl
@@ -39,6 +41,7 @@ from rcl.forth.machine import CLEAR_CODE
 MAGIC = b"RCLSTART1\n"
 PACKAGE = os.path.dirname(os.path.abspath(__file__))
 _kept = {}                                  # key -> pickled system, this process
+STALE_S = 7 * 24 * 3600                     # a copy unused this long is removed
 
 
 def key(screens_dir):
@@ -136,8 +139,19 @@ def keep(k, data):
         from rcl.safefile import write_atomically
         blob = MAGIC + k.encode() + b"\0" + zlib.crc32(data).to_bytes(4, "little") + data
         write_atomically(path_for(k), lambda f: f.write(blob))
+        forget_stale(path_for(k))
     except OSError:
         pass                                # no cache folder: the next start loads again
+
+
+def forget_stale(keeping, age=STALE_S):
+    """Remove copies not written for `age` seconds (other builds' or trees'),
+    so that the cache folder does not grow with every change to rcl."""
+    now = time.time()
+    for entry in os.scandir(os.path.dirname(keeping)):
+        if entry.name.startswith("start-") and entry.name.endswith(".pickle") \
+                and entry.path != keeping and now - entry.stat().st_mtime > age:
+            os.remove(entry.path)
 
 
 def open_loaded(screens_dir, write, load):

@@ -101,3 +101,13 @@ def test_a_kept_copy_this_code_cannot_read_is_forgotten_and_the_screens_loaded(c
     startcache._kept[k] = b"not a pickle"
     m = rcl.open()
     assert m.evaluate("1 2 + .") == "3 " and startcache._kept[k] != b"not a pickle"
+
+
+def test_copies_not_written_for_a_week_are_removed_when_a_new_one_is_kept(cache):
+    cache.mkdir()
+    old, recent = cache / "start-x-00000001.pickle", cache / "start-x-00000002.pickle"
+    for p in (old, recent):
+        p.write_bytes(b"another build's copy")
+    os.utime(old, (0, 0))
+    rcl.open()
+    assert not old.exists() and recent.exists() and len(files(cache)) == 2
