@@ -8,7 +8,8 @@
     a share of the 10.0005 ms tick. Target: at most 50 %.
 (2) MAILBOT (Listing 6) started at 8:00 of a simulated day, to the end of
     the 4:30 trip, in the fast clock: wall seconds and simulated seconds
-    per wall second. Target: at most 20 wall seconds.
+    per wall second (and the CPU seconds, which a loaded machine does not
+    inflate). Target: at most 20 wall seconds.
 """
 import pathlib
 import sys
@@ -42,19 +43,19 @@ def mailbot_day():
     m.include(str(EXAMPLES / "listing6.fs"))
     m.evaluate("8 AM TICKS!")
     start = m.sim.seconds
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     m.evaluate("MAILBOT")
-    wall = time.perf_counter() - t0
-    return m.sim.seconds - start, wall, m.evaluate(".TIME")
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return m.sim.seconds - start, wall, cpu, m.evaluate(".TIME")
 
 
 def main():
     worst, n = worst_tick()
     print("(1) worst control tick with both wheels moving: %.2f ms of %.4f ms = %.1f %% "
           "(%d ticks; target <= 50 %%)" % (worst / 36e6, TICK / 36e6, 100 * worst / TICK, n))
-    sim, wall, end = mailbot_day()
-    print("(2) MAILBOT 8:00 to %s: %.0f simulated s in %.1f wall s = %.0f simulated s "
-          "per wall s (target <= 20 wall s)" % (end.strip(), sim, wall, sim / wall))
+    sim, wall, cpu, end = mailbot_day()
+    print("(2) MAILBOT 8:00 to %s: %.0f simulated s in %.1f wall s (%.1f CPU s) = %.0f "
+          "simulated s per wall s (target <= 20 wall s)" % (end.strip(), sim, wall, cpu, sim / wall))
 
 
 if __name__ == "__main__":

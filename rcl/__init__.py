@@ -45,12 +45,22 @@ def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (D
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
-    board = board if board is not None else SimBoard()
-    m = Forth(write=write, board=board)
-    m.sim = Sim(board)
-    load_rcl(m, screens, image)
+    if board is None and image is None and screens:     # the same every time: kept
+        from rcl import startcache
+
+        def load():
+            fresh = Forth(board=SimBoard())
+            fresh.sim = Sim(fresh.board)
+            load_rcl(fresh, screens, None)
+            return fresh
+        m = startcache.open_loaded(screens if isinstance(screens, str) else SCREENS, write, load)
+    else:
+        board = board if board is not None else SimBoard()
+        m = Forth(write=write, board=board)
+        m.sim = Sim(board)
+        load_rcl(m, screens, image)
     if realtime:
-        board.pacer = Pacer(m.clock)
+        m.board.pacer = Pacer(m.clock)
     return m
 
 

@@ -15,7 +15,6 @@ command line. Nothing here ever lets a Python traceback reach the user.
 """
 import argparse
 import contextlib
-import datetime
 import io
 import os
 import signal
@@ -110,7 +109,9 @@ def make_machine(args, write):
     """The machine the command line drives: the simulated board with RCL
     (rcl.open), the board alone (--board-only), or plain Forth (--bare);
     from a saved system with --image; its time of day from --start."""
-    from rcl.forth.image import ImageError, load
+    ImageError = ()                     # catches nothing: no image to refuse
+    if args.image:                      # (image.py's hashing is not loaded otherwise)
+        from rcl.forth.image import ImageError, load
     try:
         if args.bare:
             m = rcl.Forth(write=write)
@@ -140,6 +141,7 @@ def describe(args):
 def start_time(text):
     """--start: `HH:MM` (24-hour) or `now` -> seconds after midnight."""
     if text.lower() == "now":
+        import datetime                 # only for --start now (kept out of start-up)
         t = datetime.datetime.now().time()
         return t.hour * 3600 + t.minute * 60 + t.second
     try:
@@ -203,6 +205,19 @@ def list_ports():
 
 
 # --------------------------------------------------------------- arguments
+class VersionAction(argparse.Action):
+    """--version: the version looked up only when asked (importlib.metadata
+    alone costs a sixth of the start-up)."""
+
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0,
+                         help="show program's version number and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print("rcl " + version())
+        parser.exit()
+
+
 def parse_args(argv):
     p = argparse.ArgumentParser(
         prog="rcl", description="RCL, an F83-style Forth for the 1986 R-E Robot.",
@@ -234,7 +249,7 @@ def parse_args(argv):
                    help="draw path, wheel speeds and following error at the end "
                         "(.png .svg .pdf; needs the extra rcl[plot])")
     add_link_args(p)
-    p.add_argument("--version", action="version", version="rcl " + version())
+    p.add_argument("--version", action=VersionAction)
     args = p.parse_intermixed_args(argv)
     if args.bare and (args.board_only or args.realtime or args.start is not None
                       or args.screens):

@@ -2,12 +2,12 @@
 file beside it, then rename it over the old one (atomic on POSIX and
 Windows), so the file is either the old one or the whole new one."""
 import os
-import tempfile
 
 
 def temporary_beside(path):
     """-> (fd, name) of a new file in path's folder, with the mode a plain
     open() would give path (mkstemp's is 0600)."""
+    import tempfile                     # only when writing (not at every start)
     folder = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".%s." % os.path.basename(path), dir=folder)
     try:

@@ -103,3 +103,26 @@ def test_threaded_code_that_wraps_round_the_end_of_memory_compiles_and_runs_as_t
         out.append((m.stack, m.clock, m.watch[0xFFFF] & WATCH_CODE, m.watch[0] & WATCH_CODE))
     assert out[0][:2] == out[1][:2] and out[0][0][0] == 5
     assert out[0][2] and out[0][3]
+
+
+def test_code_larger_than_the_dictionary_is_left_to_the_reference_loop_with_the_same_outcome():
+    # X is a colon word whose body is the empty memory after HERE: 30,000-odd
+    # cells of zeros, more than any definition can have. Compiling them took
+    # 7 s (80 s on PyPy); the reference loop runs them in the same virtual time.
+    from rcl.forth.decode import WALK_LIMIT
+
+    out = []
+    for compiled in (True, False):
+        m = rcl.Forth()
+        m.compiled = compiled
+        m.step_limit = 20_000
+        try:
+            m.evaluate(": Y ;  CREATE X  ' Y @ ' X !  X")
+            code = None
+        except rcl.ForthError as e:
+            code = e.code
+        out.append((code, m.clock, m.stack))
+        if compiled:
+            assert not any(hasattr(f, "source") for f in m.fn.values())   # not compiled
+    assert out[0] == out[1]
+    assert (0xCC00 - 0x480) // 2 == WALK_LIMIT

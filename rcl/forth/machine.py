@@ -16,6 +16,7 @@ from rcl.board import NullBoard
 from rcl.errors import Bye, ForthError, file_error
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
+from rcl.forth.decode import TooLarge
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
 from rcl.forth.inner import Inner
 from rcl.forth.memory import (DICT_START, MASK, USER_AREA, WATCH_CODE,
@@ -134,7 +135,10 @@ class Forth(Inner, Outer):
     def compile(self, addr):
         if not self.compiled:
             return lambda m: m.run_from(addr, len(m.rs))
-        f = compile_code(self, addr)
+        try:
+            f = compile_code(self, addr)
+        except TooLarge:                   # a wild EXECUTE: the reference loop runs it
+            f = lambda m: m.run_from(addr, len(m.rs))    # noqa: E731
         self.fn[addr] = f
         return f
 

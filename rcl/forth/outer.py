@@ -18,12 +18,14 @@ The loop for one source (F83's INTERPRET):
 An error anywhere raises ForthError; `abort` then empties both stacks,
 leaves compile state and drops every nested source, as F83's ABORT does.
 """
+import re
 from dataclasses import dataclass
 
 from rcl.errors import Bye, ForthError
 from rcl.forth.memory import INPUT_AREA, MASK, SIZE
 from rcl.forth.numbers import convert
 
+TOKEN = re.compile(rb"[\x00-\x20]*([^\x00-\x20]*)")   # blanks are 32 and below (F83)
 ON_ABORT_LIMIT = 36_000_000 * 1000     # virtual time the ON-ABORT hook may take (1 s)
 
 
@@ -118,11 +120,15 @@ class Outer:
         """Skip blanks, take a blank-delimited token; '' at the end."""
         addr, length = self.source()
         mem, i = self.memory.mem, self.memory.fetch(self.a_in)
-        while i < length and mem[(addr + i) & MASK] <= 32:
-            i += 1
-        start = i
-        while i < length and mem[(addr + i) & MASK] > 32:
-            i += 1
+        if i < length and addr + length <= SIZE:     # one regex search, not a loop a byte
+            token = TOKEN.match(mem, addr + i, addr + length)
+            start, i = token.start(1) - addr, token.end(1) - addr
+        else:                                        # the buffer wraps round (or is empty)
+            while i < length and mem[(addr + i) & MASK] <= 32:
+                i += 1
+            start = i
+            while i < length and mem[(addr + i) & MASK] > 32:
+                i += 1
         self.memory.store(self.a_in, min(i + 1, length) if i < length else i)
         return self.memory.text((addr + start) & MASK, i - start), (addr + start) & MASK
 

@@ -103,7 +103,7 @@ class BoardServer:
                  version=P.VERSION, name="rcl-board (simulated R-E Robot)", lockstep=True,
                  rate=1.0):
         self.clock = BoardClock(self, rate=rate)
-        self.board = SimBoard()
+        self.board = SimBoard(port_log=True)     # for --report and the tests
         self.board.attach(self.clock)
         self.reader = P.FrameReader()
         self.random = random.Random(seed)

@@ -30,8 +30,9 @@ INT 1Ch pointing into the Forth segment runs that Forth word; anything
 else is taken as the power-on IRET.
 """
 import collections
+import struct
 
-from rcl.board import CLOCK_HZ, FORTH_CS, Board
+from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
@@ -43,12 +44,13 @@ BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
 TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
 EOI_TIMER = 0x0008
+DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 
 
 class SimBoard(Board):
     """The default board: everything a user's RCL program drives."""
 
-    def __init__(self):
+    def __init__(self, port_log=False):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
         self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
@@ -60,7 +62,9 @@ class SimBoard(Board):
         self.physics_ms = 0
         self.ticks = 0                    # timer-0 interrupts serviced
         self.overruns = 0                 # handlers still running at the next tick
-        self.port_log = collections.deque(maxlen=100_000)   # (clock, port, value)
+        # (clock, port, value) of the last 100,000 writes, only when asked
+        # for (rcl-board's --report): nobody else reads it
+        self.port_log = collections.deque(maxlen=100_000) if port_log else None
         self.beeps = []                   # [start, end] in clock units
         self.observers = []               # callables(board) after each tick
         self.pacer = None                 # real-time pacing, when set
@@ -112,24 +116,30 @@ class SimBoard(Board):
 
     # ------------------------------------------------------------- ports
     def out8(self, port, byte):
-        now = self.sync()
-        self.port_log.append((now, port, byte))
+        self._out8(port, byte, self.sync())
+
+    def _out8(self, port, byte, now):
+        if self.port_log is not None:
+            self.port_log.append((now, port, byte))
         if port in (C.MOTOR_PORT, C.AUX_PORT):
             self._latch(port, byte, now)
         elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base = port & ~3
-            if self.touches_counter0(port, byte):
+            base, a = port & ~3, port & 3
+            if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
                 self._clock_ref(base, now)
-            self.chips[base].write(port & 3, byte)
-            if self.touches_counter0(port, byte):
-                self.refs = self.references()
+                self.chips[base].write(a, byte)
+                self.refs = self.references()   # the speed reference may have changed
+            else:
+                self.chips[base].write(a, byte)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
             self._pcb_write(port & 0xFE, word, now)
 
     def in8(self, port):
-        now = self.sync()
+        return self._in8(port, self.sync())
+
+    def _in8(self, port, now):
         if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
             base = port & ~3
             if port & 3 == 0:
@@ -145,7 +155,8 @@ class SimBoard(Board):
     def out16(self, port, word):
         if port >= C.PCB_BASE:            # the PCB takes whole words
             now = self.sync()
-            self.port_log.append((now, port, word))
+            if self.port_log is not None:
+                self.port_log.append((now, port, word))
             self._pcb_write(port & 0xFFFE, word, now)
         else:                             # external: two byte cycles
             super().out16(port, word)
@@ -154,6 +165,16 @@ class SimBoard(Board):
         if port >= C.PCB_BASE:
             return self.pcb.read16(port & 0xFE, self.pcb_time(self.sync()))
         return super().in16(port)
+
+    def port_script(self, ops):
+        """The ops at one moment: one sync, then each as out8/in8 would."""
+        now, reads = self.sync(), []
+        for op, port, value in ops:
+            if op == OUT8:
+                self._out8(port, value, now)
+            else:
+                reads.append(self._in8(port, now) & 0xFF)
+        return reads
 
     def _pcb_write(self, offset, word, now):
         self.pcb.write16(offset & 0xFF, word, self.pcb_time(now))
@@ -170,11 +191,6 @@ class SimBoard(Board):
                     self.beeps[-1][1] = now
             self.aux_latch = byte
 
-    @staticmethod
-    def touches_counter0(port, byte):
-        """A write to counter 0, or a control word selecting it (SC = 00)."""
-        return port & 3 == 0 or (port & 3 == 3 and not byte & 0xC0)
-
     def _clock_ref(self, base, now):
         """Bring counter 0 (the 125 kHz speed reference) up to now."""
         pulses = now * C.F_8253_CLK // CLOCK_HZ
@@ -183,14 +199,23 @@ class SimBoard(Board):
 
     def references(self):
         """The two PLL reference frequencies, Hz (0 if not running)."""
-        return tuple(self.chips[b].counters[0].frequency(C.F_8253_CLK)
-                     for b in (C.LEFT_8253, C.RIGHT_8253))
+        chips = self.chips
+        return (chips[C.LEFT_8253].counters[0].frequency(C.F_8253_CLK),
+                chips[C.RIGHT_8253].counters[0].frequency(C.F_8253_CLK))
 
     # ----------------------------------------------------------- physics
     def sync(self):
         """Bring the physics up to the machine's clock; -> the clock."""
         now = self.machine.clock
         target = now // MS
+        if self.physics_ms < target:      # else already there (most port accesses)
+            self.physics_to(target)
+        self.clock = now
+        return now
+
+    def physics_to(self, target):
+        """Physics up to millisecond `target`: jumped over while nothing
+        moves, in closed form at steady speed, else 1 ms at a time."""
         while self.physics_ms < target:
             if self.is_idle():
                 self.physics_ms = target
@@ -199,8 +224,6 @@ class SimBoard(Board):
                 self.cruise(target - self.physics_ms)
                 break
             self.step_ms()
-        self.clock = now
-        return now
 
     def is_idle(self):
         """Nothing moves and nothing would start moving."""
@@ -247,7 +270,8 @@ class SimBoard(Board):
         the machine, and nothing happens in between."""
         if now is None:
             now = self.clock if self.machine is None else self.machine.clock
-        return max(now, self.pcb.clock)
+        c = self.pcb.clock
+        return now if now > c else c
 
     def service(self, m):
         """An interrupt request: the simulated BIOS handles timer 0. The EOI
@@ -264,9 +288,10 @@ class SimBoard(Board):
         nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
         try:
             self.bios_tick(m)
-        finally:
-            self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
-            self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
+        except BaseException:
+            self.end_of_interrupt(m)
+            raise
+        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
         if self.batch_idle_ticks(m):
             nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
         self.due = nxt
@@ -276,6 +301,12 @@ class SimBoard(Board):
             observe(self)
         if self.pacer is not None:
             self.pacer.wait(m.clock)
+
+    def end_of_interrupt(self, m):
+        """The EOI, and the next interrupt from there (after a handler
+        failed: it may have left the timer anywhere)."""
+        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+        self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
 
     def batch_idle_ticks(self, m):
         """While the machine only waits and INT 1Ch does nothing, every tick
@@ -305,11 +336,11 @@ class SimBoard(Board):
 
     def count_ticks(self, n):
         """Add n ticks to the BIOS time of day, wrapping at midnight (flag set)."""
-        per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
-        count = self.low_fetch32(TICKS_ADDR) + n
+        per_day = max(1, DWORD.unpack_from(self.low, PER_DAY_ADDR)[0])
+        count = DWORD.unpack_from(self.low, TICKS_ADDR)[0] + n
         if count >= per_day:
             self.low[MIDNIGHT_ADDR] = 1
-        self.low_store32(TICKS_ADDR, count % per_day)
+        DWORD.pack_into(self.low, TICKS_ADDR, count % per_day)
 
     def tick_period(self):
         """Clock units between timer-0 ticks (prescaled by timer 2 or not)."""
@@ -362,19 +393,7 @@ class SimBoard(Board):
                 or self.pacer is not None or not self.is_idle() \
                 or not self.observers_allow_batching():
             return n
-        clock, ticks, last = m.clock, 0, None
-        limit = m.budget_end                      # a step budget still applies
-        while n > 0:
-            k = max(0, -(-(d - clock) // c))      # primitives until the tick
-            if k >= n:
-                clock += n * c
-                n = 0
-                break
-            if clock + k * c + cost >= limit:
-                break
-            clock += k * c + cost                 # run up to it, then the handler
-            n -= k
-            ticks, last, d = ticks + 1, d, d + period
+        clock, n, ticks, last = count_out(m.clock, n, c, d, period, cost, m.budget_end)
         if ticks:
             self.pcb.take_timer0_requests(last)
             self.pcb.acknowledge(last)
@@ -408,3 +427,55 @@ class SimBoard(Board):
         self.pcb.write16(0x56, (control & ~INT_BIT) | INH_BIT, now)
         self.pcb.drop_requests(0, now)
         self.refresh_due()
+
+
+def count_out(clock, n, c, d, period, cost, limit):
+    """n primitives of c clock units from `clock`, a tick due at d and every
+    period after, each tick's handler taking `cost`, all before `limit`
+    (a step budget): -> (clock, primitives left, ticks, the last one's due
+    time or None). As the loop below would, primitive by primitive; once
+    the ticks come at a steady rhythm, whole runs of them at once."""
+    ticks, last, jumped = 0, None, False
+    while n > 0:
+        if ticks and not jumped and period - cost >= c and d > clock:
+            jumped = True                         # each tick now comes after >= 1 primitive
+            j, used = ticks_before(d - clock, n, c, period, cost, limit - clock)
+            if j:
+                clock += used * c + j * cost
+                n -= used
+                ticks, last, d = ticks + j, d + (j - 1) * period, d + j * period
+                continue
+        k = max(0, -(-(d - clock) // c))          # primitives until the tick
+        if k >= n:
+            return clock + n * c, 0, ticks, last
+        if clock + k * c + cost >= limit:
+            break
+        clock += k * c + cost                     # run up to it, then the handler
+        n -= k
+        ticks, last, d = ticks + 1, d, d + period
+    return clock, n, ticks, last
+
+
+def ticks_before(r, n, c, period, cost, room):
+    """How many ticks count_out's loop takes when the first is r > 0 clock
+    units away and each next one comes period - cost after the last handler
+    ends (at least c): the most j whose primitives K(j) are fewer than n
+    and whose time K(j)*c + j*cost is within room; -> (j, K(j)).
+    The primitive before tick i overshoots it by e_i = (-r_i) mod c, and
+    r_(i+1) = period - cost - e_i, so e_i = (e_1 + (i-1)(cost - period))
+    mod c and K(j) = (r + (j-1)(period - cost) + e_j) / c: searched by
+    bisection."""
+    e1 = -r % c
+
+    def used(j):
+        return (r + (j - 1) * (period - cost) + (e1 + (j - 1) * (cost - period)) % c) // c
+
+    lo, hi = 0, n                                 # j = n needs at least n primitives
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        k = used(mid)
+        if k < n and k * c + mid * cost < room:
+            lo = mid
+        else:
+            hi = mid
+    return lo, used(lo) if lo else 0

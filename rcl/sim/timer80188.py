@@ -173,11 +173,12 @@ class Timer:
 
     def steps_to_expiry(self):
         """Input clocks until the count next equals the max count."""
-        return (self.limit() - self.count) % COUNT_RANGE or COUNT_RANGE
+        limit = (self.max_b if self.control & RIU else self.max_a) or COUNT_RANGE
+        return (limit - self.count) % COUNT_RANGE or COUNT_RANGE
 
     def advance(self, n):
         """Count n input clocks; return (expiries, input clock of the first)."""
-        if not (self.control & (EN)):
+        if not n or not (self.control & (EN)):
             return 0, None
         d, first, total = self.steps_to_expiry(), None, 0
         while (self.control & (EN)) and n >= d:
@@ -313,14 +314,21 @@ class Timer80188:
     def next_interrupt(self, now):
         """Clock of the next timer interrupt request (maybe already past)."""
         self.catch_up(now)
-        if self.masked or self.in_service:
+        if self.timer_control & TIMER_MASK or self.in_service:
             return None
-        latched = [t.pending_at for t in self.timers if t.pending_at is not None]
-        if latched:
-            return min(latched)
-        coming = [self.next_expiry(t) for t in self.timers if (t.control & (EN)) and (t.control & (INT))]
-        coming = [c for c in coming if c is not None]
-        return min(coming) if coming else None
+        first = None                # a latched request comes first
+        for t in self.timers:
+            at = t.pending_at
+            if at is not None and (first is None or at < first):
+                first = at
+        if first is not None:
+            return first
+        for t in self.timers:       # else the soonest expiry that requests
+            if t.control & EN and t.control & INT:
+                at = self.next_expiry(t)
+                if at is not None and (first is None or at < first):
+                    first = at
+        return first
 
     def upcoming(self, now):
         """Clock of the next timer request, in service or not (as
@@ -334,8 +342,10 @@ class Timer80188:
     def acknowledge(self, now):
         """The CPU takes the timer interrupt: return its type, set in-service."""
         self.catch_up(now)
-        timer = next((t for t in self.timers if t.pending_at is not None), None)
-        if timer is None:
+        for timer in self.timers:           # timer 0 before 1 before 2
+            if timer.pending_at is not None:
+                break
+        else:
             return None
         self.missed += max(0, timer.requests - 1)
         timer.requests, timer.pending_at = 0, None
@@ -389,10 +399,14 @@ class Timer80188:
             raise error("timer read at %d, before its clock %d" % (now, self.clock))
         base = self.clock // TIMER_CLOCK
         edges = now // TIMER_CLOCK - base
+        if not edges:               # no 2 MHz edge in between: nothing counts
+            self.clock = now
+            return
         prescaler = self.prescaler()
-        ticks2, first2 = self.timers[2].advance(edges)
-        self.latch(self.timers[2], ticks2, first2, base)
-        for timer in self.timers[:2]:
+        t0, t1, t2 = self.timers
+        ticks2, first2 = t2.advance(edges)
+        self.latch(t2, ticks2, first2, base)
+        for timer in (t0, t1):
             source = timer.source()
             n = edges if source == INTERNAL else ticks2 if source == PRESCALED else 0
             expired, first = timer.advance(n)

@@ -363,6 +363,9 @@ def um_divmod(ud, u):
     return r, q
 
 
+HELPERS.update(UMDIV=um_divmod)
+
+
 def m_divmod(lo, hi, n):
     """F83's M/MOD ( d n -- rem quot ), floored, built on UM/MOD exactly as
     kernel86.blk builds it (so overflow gives what F83 gives)."""
@@ -381,7 +384,7 @@ def m_divmod(lo, hi, n):
     return r, q
 
 
-@prim("UM*", "( u1 u2 -- ud )")
+@prim("UM*", "( u1 u2 -- ud )", inline=("a b", ("(a * b) & 0xFFFF", "(a * b) >> 16")))
 def um_star(m):
     s = m.s
     push2(s, s.pop() * s.pop())
@@ -396,7 +399,8 @@ def star_d(m):
 prim("M*", "( n1 n2 -- d ) signed 16x16 -> 32")(star_d)
 
 
-@prim("UM/MOD", "( ud u -- urem uquot ) no trap: 0 or overflow gives -1 -1")
+@prim("UM/MOD", "( ud u -- urem uquot ) no trap: 0 or overflow gives -1 -1",
+      inline=("a b c", ("UMDIV((b << 16) | a, c)[0]", "UMDIV((b << 16) | a, c)[1]")))
 def um_slash_mod(m):
     s = m.s
     u = s.pop()
@@ -436,7 +440,7 @@ def fmod(a, b):
 HELPERS.update(FDIV=fdiv, FMOD=fmod)
 
 
-@prim("/MOD", "( n1 n2 -- rem quot ) floored")
+@prim("/MOD", "( n1 n2 -- rem quot ) floored", inline=("a b", ("FMOD(a, b)", "FDIV(a, b)")))
 def slash_mod(m):
     s = m.s
     n, a = s.pop(), s.pop()

@@ -3,7 +3,7 @@
 A double is handled in Python as one 32-bit unsigned int (pop2/push2).
 """
 from rcl.forth.memory import MASK, signed
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import HELPERS, prim
 from rcl.words.core import m_divmod, pop2, push2
 
 D_MASK = 0xFFFFFFFF
@@ -12,6 +12,9 @@ D_MASK = 0xFFFFFFFF
 def ds(d):
     """An unsigned 32-bit value as signed."""
     return d - (1 << 32) if d & 0x80000000 else d
+
+
+HELPERS.update(DS=ds)        # a 32-bit value as signed, for templates
 
 
 def _d2(op):
@@ -42,17 +45,26 @@ def _dflag1(test):
     return f
 
 
-prim("D+", "( d1 d2 -- d3 )")(_d2(lambda a, b: a + b))
-prim("D-", "( d1 d2 -- d3 )")(_d2(lambda a, b: a - b))
+# Inline templates of the doubles the control word uses every tick: cells
+# a b (d1, high cell b) and c d (d2); a 32-bit result's cells are its
+# low 16 bits and, shifted, its high 16 (two's complement either way).
+D1, D2 = "((b << 16) | a)", "((d << 16) | c)"
+prim("D+", "( d1 d2 -- d3 )", inline=("a b c d", (
+    "(a + c) & 0xFFFF", "((%s + %s) >> 16) & 0xFFFF" % (D1, D2))))(_d2(lambda a, b: a + b))
+prim("D-", "( d1 d2 -- d3 )", inline=("a b c d", (
+    "(a - c) & 0xFFFF", "((%s - %s) >> 16) & 0xFFFF" % (D1, D2))))(_d2(lambda a, b: a - b))
 prim("DMIN", "( d1 d2 -- d3 )")(_d2(lambda a, b: a if ds(a) < ds(b) else b))
 prim("DMAX", "( d1 d2 -- d3 )")(_d2(lambda a, b: a if ds(a) > ds(b) else b))
-prim("DNEGATE", "( d -- -d )")(_d1(lambda a: -a))
+prim("DNEGATE", "( d -- -d )", inline=("a b", (
+    "-a & 0xFFFF", "(-%s >> 16) & 0xFFFF" % D1)))(_d1(lambda a: -a))
 prim("DABS", "( d -- ud )")(_d1(lambda a: abs(ds(a))))
 prim("D2*", "( d -- 2d )")(_d1(lambda a: a << 1))
 prim("D2/", "( d -- d/2 ) arithmetic")(_d1(lambda a: ds(a) >> 1))
-prim("D=", "( d1 d2 -- f )")(_dflag2(lambda a, b: a == b))
+prim("D=", "( d1 d2 -- f )", inline=("a b c d", (
+    "0xFFFF if a == c and b == d else 0",)))(_dflag2(lambda a, b: a == b))
 prim("D<>", "( d1 d2 -- f )")(_dflag2(lambda a, b: a != b))
-prim("D<", "( d1 d2 -- f ) signed")(_dflag2(lambda a, b: ds(a) < ds(b)))
+prim("D<", "( d1 d2 -- f ) signed", inline=("a b c d", (
+    "0xFFFF if DS(%s) < DS(%s) else 0" % (D1, D2),)))(_dflag2(lambda a, b: ds(a) < ds(b)))
 prim("D>", "( d1 d2 -- f ) signed")(_dflag2(lambda a, b: ds(a) > ds(b)))
 prim("DU<", "( ud1 ud2 -- f )")(_dflag2(lambda a, b: a < b))
 prim("DU>", "( ud1 ud2 -- f )")(_dflag2(lambda a, b: a > b))
@@ -70,7 +82,8 @@ def d_to_s(m):
     m.s.pop()
 
 
-@prim("?DNEGATE", "( d n -- d' ) negate d if n < 0")
+@prim("?DNEGATE", "( d n -- d' ) negate d if n < 0", inline=("a b c", (
+    "-a & 0xFFFF if c & 0x8000 else a", "(-%s >> 16) & 0xFFFF if c & 0x8000 else b" % D1)))
 def q_dnegate(m):
     n = m.s.pop()
     if n & 0x8000:
@@ -83,7 +96,8 @@ def q_negate(m):
         m.s[-1] = -m.s[-1] & MASK
 
 
-@prim("M+", "( d n -- d' )")
+@prim("M+", "( d n -- d' )", inline=("a b c", (
+    "(a + c) & 0xFFFF", "((%s + (c - 0x10000 if c & 0x8000 else c)) >> 16) & 0xFFFF" % D1)))
 def m_plus(m):
     n = signed(m.s.pop())
     push2(m.s, (pop2(m.s) + n) & D_MASK)

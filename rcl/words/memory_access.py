@@ -42,24 +42,33 @@ def plus_store(m):
     m.memory.store(a, (m.memory.fetch(a) + m.s.pop()) & MASK)
 
 
-@prim("2@", "( addr -- d ) high cell at addr")
+@prim("2@", "( addr -- d ) high cell at addr", memory=True,
+      inline=("a", ("mem[(a + 2) & 0xFFFF] | (mem[(a + 3) & 0xFFFF] << 8)", FETCH)))
 def two_fetch(m):
     m.s.extend(m.memory.dfetch(m.s.pop()))
 
 
-@prim("2!", "( d addr -- ) high cell at addr")
+@prim("2!", "( d addr -- ) high cell at addr", memory=True,
+      inline=("a b c", (), "mem[c] = b & 0xFF; mem[(c + 1) & 0xFFFF] = b >> 8\n"
+              "if W[c] or W[(c + 1) & 0xFFFF]: m.watched(c)\n"
+              "mem[(c + 2) & 0xFFFF] = a & 0xFF; mem[(c + 3) & 0xFFFF] = a >> 8\n"
+              "if W[(c + 2) & 0xFFFF] or W[(c + 3) & 0xFFFF]: m.watched((c + 2) & 0xFFFF)"))
 def two_store(m):
     s = m.s
     a, hi, lo = s.pop(), s.pop(), s.pop()
     m.memory.dstore(a, lo, hi)
 
 
-@prim("ON", "( addr -- ) store -1")
+@prim("ON", "( addr -- ) store -1", memory=True, inline=("a", (), (
+    "mem[a] = 255; mem[(a + 1) & 0xFFFF] = 255\n"
+    "if W[a] or W[(a + 1) & 0xFFFF]: m.watched(a)")))
 def on(m):
     m.memory.store(m.s.pop(), MASK)
 
 
-@prim("OFF", "( addr -- ) store 0")
+@prim("OFF", "( addr -- ) store 0", memory=True, inline=("a", (), (
+    "mem[a] = 0; mem[(a + 1) & 0xFFFF] = 0\n"
+    "if W[a] or W[(a + 1) & 0xFFFF]: m.watched(a)")))
 def off(m):
     m.memory.store(m.s.pop(), 0)
 

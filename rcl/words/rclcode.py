@@ -19,6 +19,8 @@ Layer 9's `IDLE-CELLS` is such a table of the addresses IDLE? reads:
 MOVING, ARM-BITS, CONTROL's xt and STOCK-CONTROL, laid down by the screen
 at load time (`MOVING , ARM-BITS , ...`).
 """
+import struct
+
 from rcl.board import FORTH_CS, IN8, OUT8
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
@@ -66,24 +68,26 @@ def init_counters(m):
     m.memory.write(state_addr(m), bytes(24))
 
 
+COUNTER_READS = tuple(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),   # latch 1, latch 2
+                       (IN8, base + 1, 0), (IN8, base + 1, 0),         # counter 1 LSB MSB
+                       (IN8, base + 2, 0), (IN8, base + 2, 0))         # counter 2 LSB MSB
+                      for base in BASES)
+STATE = struct.Struct("<HHHHHH")    # prev fwd, prev rev, fwd total hi lo, rev total hi lo
+
+
 def read_position(m, wheel):
     """Latch and read one wheel's counters, add the pulses since the last
     read to the 32-bit totals; -> forward minus reverse, as a 32-bit value."""
-    base, mem = BASES[wheel], m.memory
-    r = m.board.port_script(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),
-                             (IN8, base + 1, 0), (IN8, base + 1, 0),
-                             (IN8, base + 2, 0), (IN8, base + 2, 0)))
-    now = (r[0] | (r[1] << 8), r[2] | (r[3] << 8))
+    r = m.board.port_script(COUNTER_READS[wheel])
+    fwd, rev = r[0] | (r[1] << 8), r[2] | (r[3] << 8)
     a = state_addr(m) + 12 * wheel
-    totals = []
-    for i in range(2):
-        prev = mem.fetch(a + 2 * i)
-        lo, hi = mem.dfetch(a + 4 + 4 * i)
-        total = (((hi << 16) | lo) + ((prev - now[i]) & MASK)) & 0xFFFFFFFF
-        mem.store(a + 2 * i, now[i])
-        mem.dstore(a + 4 + 4 * i, total & MASK, total >> 16)
-        totals.append(total)
-    return (totals[0] - totals[1]) & 0xFFFFFFFF
+    mem = m.memory
+    prev_f, prev_r, fhi, flo, rhi, rlo = STATE.unpack(mem.read(a, 12))
+    total_f = (((fhi << 16) | flo) + ((prev_f - fwd) & MASK)) & 0xFFFFFFFF
+    total_r = (((rhi << 16) | rlo) + ((prev_r - rev) & MASK)) & 0xFFFFFFFF
+    mem.write(a, STATE.pack(fwd, rev, total_f >> 16, total_f & MASK,
+                            total_r >> 16, total_r & MASK))
+    return (total_f - total_r) & 0xFFFFFFFF
 
 
 @prim("?CNT1", "( -- d ) motor 1 (left) position in encoder counts, + forward",

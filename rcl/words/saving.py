@@ -2,7 +2,6 @@
 the file's layout is rcl/forth/image.py's). `rcl --image FILE` starts
 from it."""
 from rcl.errors import ForthError
-from rcl.forth import image
 from rcl.forth.primitives import prim
 from rcl.words.compiling import parse_word
 
@@ -10,6 +9,7 @@ from rcl.words.compiling import parse_word
 @prim("SAVE-SYSTEM", "( -- ) write the whole system image to the file named next",
       kind="call")
 def save_system(m):
+    from rcl.forth import image         # hashlib, zlib, json: only when saving
     name = parse_word(m)
     try:
         image.save(m, name)
