@@ -1,0 +1,160 @@
+/* The pty <-> UART0 bridge of bridge.h. */
+#define _GNU_SOURCE
+#include "bridge.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <pty.h>
+#include <string.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "avr_uart.h"
+#include "sim_cycle_timers.h"
+#include "sim_irq.h"
+#include "sim_time.h"
+
+/* One byte off the queue onto the wire each byte time, while any wait. */
+static avr_cycle_count_t send_next(avr_t *avr, avr_cycle_count_t when,
+                                   void *param)
+{
+    bridge *b = param;
+    uint8_t byte;
+
+    (void)avr;
+    if (b->count == 0)
+        return 0;
+    byte = b->queue[b->head];
+    b->head = (b->head + 1) % BRIDGE_QUEUE;
+    b->count--;
+    b->to_board++;
+    if (b->on_byte)
+        b->on_byte(b->on_byte_ctx, byte, 1, when);
+    avr_raise_irq(b->uart_in, byte);
+    return b->count ? when + b->byte_cycles : 0;
+}
+
+/* A byte the firmware wrote to UDR0: simavr raises this as the byte
+ * starts on the wire, paced by its own UDRE timing. */
+static void board_sent(avr_irq_t *irq, uint32_t value, void *param)
+{
+    bridge *b = param;
+
+    (void)irq;
+    b->from_board++;
+    if (b->on_byte)
+        b->on_byte(b->on_byte_ctx, (uint8_t)value, 0, b->avr->cycle);
+    if (b->out_len < sizeof b->out)
+        b->out[b->out_len++] = (uint8_t)value;
+    else
+        b->dropped_out++;
+}
+
+/* The wire starts 1 byte time after the first byte queued; later bytes
+ * follow back to back (send_next re-arms itself). */
+static void enqueue(bridge *b, const uint8_t *p, size_t n)
+{
+    int idle = b->count == 0;
+
+    for (size_t i = 0; i < n; i++) {
+        if (b->count == BRIDGE_QUEUE) {
+            b->dropped_in += n - i;
+            break;
+        }
+        b->queue[(b->head + b->count) % BRIDGE_QUEUE] = p[i];
+        b->count++;
+    }
+    if (idle && b->count &&
+        avr_cycle_timer_status(b->avr, send_next, b) == 0)
+        avr_cycle_timer_register(b->avr, b->byte_cycles, send_next, b);
+}
+
+int bridge_open(bridge *b, avr_t *avr, long baud)
+{
+    struct termios raw;
+    int slave;
+    uint32_t flags = 0;
+
+    memset(b, 0, sizeof *b);
+    b->avr = avr;
+    /* 10 bits a byte: start, 8 data, stop */
+    b->byte_cycles = (avr_cycle_count_t)((10.0 * avr->frequency) / baud + 0.5);
+    memset(&raw, 0, sizeof raw);
+    cfmakeraw(&raw);
+    if (openpty(&b->master, &slave, b->slave_name, &raw, NULL) < 0)
+        return -1;
+    /* Closed here so that the master sees a hang-up until a host opens
+     * the slave: what the board sends then is lost, as on a cable with
+     * nobody at the other end, not stored for the next host to read. */
+    close(slave);
+    fcntl(b->master, F_SETFL, fcntl(b->master, F_GETFL) | O_NONBLOCK);
+    b->uart_in = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
+    avr_irq_register_notify(
+        avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT),
+        board_sent, b);
+    /* simavr's polling sleep would stall the simulation on every status
+     * read; this harness paces time itself */
+    avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+    flags &= ~AVR_UART_FLAG_POLL_SLEEP;
+    flags &= ~AVR_UART_FLAG_STDIO;
+    avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+    return 0;
+}
+
+static void read_host(bridge *b)
+{
+    uint8_t buf[4096];
+
+    for (;;) {
+        ssize_t n = read(b->master, buf, sizeof buf);
+        if (n <= 0)
+            return;
+        enqueue(b, buf, (size_t)n);
+    }
+}
+
+static void write_host(bridge *b)
+{
+    size_t done = 0;
+
+    if (!b->host_present) {
+        b->dropped_out += b->out_len;
+        b->out_len = 0;
+        return;
+    }
+    while (done < b->out_len) {
+        ssize_t n = write(b->master, b->out + done, b->out_len - done);
+        if (n <= 0)
+            break;
+        done += (size_t)n;
+    }
+    /* a host that does not read: the line has no flow control */
+    b->dropped_out += b->out_len - done;
+    b->out_len = 0;
+}
+
+void bridge_pump(bridge *b)
+{
+    struct pollfd p = { .fd = b->master, .events = POLLIN };
+
+    if (poll(&p, 1, 0) < 0)
+        return;
+    b->host_present = !(p.revents & POLLHUP);
+    if (p.revents & POLLIN)
+        read_host(b);
+    write_host(b);
+}
+
+void bridge_rearm(bridge *b)
+{
+    if (b->count && avr_cycle_timer_status(b->avr, send_next, b) == 0)
+        avr_cycle_timer_register(b->avr, b->byte_cycles, send_next, b);
+}
+
+void bridge_close(bridge *b)
+{
+    if (b->master >= 0)
+        close(b->master);
+    b->master = -1;
+}

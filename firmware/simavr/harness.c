@@ -1,0 +1,392 @@
+/* rcl-simavr: the firmware's real Uno image (ATmega328P, 16 MHz) under
+ * simavr, its UART0 on a pseudo-terminal and its motor pins driving the
+ * gearmotor + encoder model the native build uses.
+ *
+ *   rcl-simavr [options] firmware.elf
+ *
+ * The first line on stdout is the pty's path. Simulated time follows
+ * real time (times --rate) and never runs ahead of it: a harness that
+ * falls behind (the machine stalls) does not race to catch up, it
+ * re-bases, so the board never sees time pass that the host had no
+ * chance to answer in.
+ *
+ * Lines on stdin: "hold arm|jaw", "release arm|jaw", "stats" (one JSON
+ * line on stdout), "quit". SIGUSR1 writes the stats file; SIGTERM,
+ * SIGINT, SIGHUP and "quit" write it and exit.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "sim_avr.h"
+#include "sim_elf.h"
+
+#include "bridge.h"
+#include "frames.h"
+#include "wheels.h"
+
+#define MCU "atmega328p"
+#define MCU_HZ 16000000
+#define BAUD 115200
+#define SLICE_US 250          /* input is looked at least this often */
+#define MAX_LAG_US 20000      /* further behind than this: re-base */
+
+typedef struct options {
+    const char *elf;
+    const char *stats_path;
+    double rate;
+    int hold[LIMIT_COUNT];
+    int quiet;
+} options;
+
+typedef struct harness {
+    options opt;
+    avr_t *avr;
+    bridge br;
+    wheels ws;
+    link_watch lw;
+    void (*core_reset)(avr_t *);
+    double base_wall;                 /* wall time of the last (re-)base */
+    avr_cycle_count_t base_cycle;     /* simulated cycle at that time */
+    double start_wall;
+    unsigned long rebases, resets;
+    double lag_max_us;                /* deepest fall behind before a re-base */
+    char line[256];                   /* stdin command being read */
+    size_t line_len;
+    int stdin_open;
+} harness;
+
+static harness H;                     /* one per process: signals reach it */
+static volatile sig_atomic_t quit_signal, stats_signal;
+
+static double now_s(void)
+{
+    struct timespec t;
+
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + t.tv_nsec * 1e-9;
+}
+
+static void on_signal(int sig)
+{
+    if (sig == SIGUSR1)
+        stats_signal = 1;
+    else
+        quit_signal = sig;
+}
+
+/* simavr's messages go to stderr: stdout carries the pty path and stats */
+static void log_to_stderr(avr_t *avr, const int level, const char *fmt,
+                          va_list ap)
+{
+    if (avr && level > avr->log)
+        return;
+    vfprintf(stderr, fmt, ap);
+}
+
+/* The harness paces time itself (run_until); simavr's own sleep would
+ * usleep for every idle stretch on top of that. */
+static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
+{
+    (void)avr;
+    (void)how_long;
+}
+
+/* ------------------------------------------------------------ stats */
+static void stats_json(FILE *f)
+{
+    const wheels *ws = &H.ws;
+    double sim_s = (double)H.avr->cycle / H.avr->frequency;
+
+    fprintf(f, "{\"sim_s\": %.6f, \"wall_s\": %.3f, \"rate\": %g, "
+               "\"rebases\": %lu, \"lag_max_us\": %.0f, \"resets\": %lu, ",
+            sim_s, now_s() - H.start_wall, H.opt.rate, H.rebases,
+            H.lag_max_us, H.resets);
+    fprintf(f, "\"edges\": [%.0f, %.0f], \"pin_edges\": [%ld, %ld], "
+               "\"drive\": [%.4f, %.4f], \"limits_held\": [%d, %d], ",
+            motor_edges(&ws->w[WHEEL_LEFT].m), motor_edges(&ws->w[WHEEL_RIGHT].m),
+            ws->w[WHEEL_LEFT].shown, ws->w[WHEEL_RIGHT].shown,
+            ws->w[WHEEL_LEFT].drive, ws->w[WHEEL_RIGHT].drive,
+            ws->limit_held[LIMIT_ARM], ws->limit_held[LIMIT_JAW]);
+    fprintf(f, "\"bytes_to_board\": %lu, \"bytes_from_board\": %lu, "
+               "\"dropped_to_board\": %lu, \"dropped_from_board\": %lu, ",
+            H.br.to_board, H.br.from_board, H.br.dropped_in, H.br.dropped_out);
+    link_watch_json(&H.lw, f);
+    fputs("}\n", f);
+}
+
+/* Written beside and renamed, so a reader never sees half a file. */
+static void write_stats_file(void)
+{
+    char tmp[4096];
+    FILE *f;
+
+    if (!H.opt.stats_path)
+        return;
+    snprintf(tmp, sizeof tmp, "%s.tmp", H.opt.stats_path);
+    f = fopen(tmp, "w");
+    if (!f) {
+        fprintf(stderr, "rcl-simavr: %s: %s\n", tmp, strerror(errno));
+        return;
+    }
+    stats_json(f);
+    fclose(f);
+    rename(tmp, H.opt.stats_path);
+}
+
+/* ---------------------------------------------------- stdin commands */
+static int limit_named(const char *name)
+{
+    if (strcmp(name, "arm") == 0)
+        return LIMIT_ARM;
+    if (strcmp(name, "jaw") == 0)
+        return LIMIT_JAW;
+    return -1;
+}
+
+static void command(const char *cmd)
+{
+    char verb[32] = "", arg[32] = "";
+    int which;
+
+    if (sscanf(cmd, "%31s %31s", verb, arg) < 1)
+        return;
+    if (strcmp(verb, "stats") == 0) {
+        stats_json(stdout);
+        fflush(stdout);
+        write_stats_file();
+    } else if (strcmp(verb, "quit") == 0) {
+        quit_signal = SIGTERM;
+    } else if ((strcmp(verb, "hold") == 0 || strcmp(verb, "release") == 0) &&
+               (which = limit_named(arg)) >= 0) {
+        wheels_hold_limit(&H.ws, which, verb[0] == 'h');
+    } else {
+        fprintf(stderr, "rcl-simavr: unknown command: %s\n", cmd);
+    }
+}
+
+static void read_commands(void)
+{
+    struct pollfd p = { .fd = 0, .events = POLLIN };
+    char c;
+
+    while (H.stdin_open && poll(&p, 1, 0) > 0) {
+        if (read(0, &c, 1) != 1) {    /* EOF: no more commands, run on */
+            H.stdin_open = 0;
+            return;
+        }
+        if (c == '\n') {
+            H.line[H.line_len] = 0;
+            command(H.line);
+            H.line_len = 0;
+        } else if (H.line_len < sizeof H.line - 1) {
+            H.line[H.line_len++] = c;
+        }
+    }
+}
+
+/* ------------------------------------------------------------ pacing */
+/* The cycle simulated time may reach now: never ahead of the wall clock
+ * (times rate). Further behind than MAX_LAG_US means the harness was
+ * not running (a stall): start counting again from here instead of
+ * racing through the lost time with nobody able to answer. */
+static avr_cycle_count_t allowed_cycle(void)
+{
+    double t = now_s();
+    double hz = H.avr->frequency * H.opt.rate;
+    double target = H.base_cycle + (t - H.base_wall) * hz;
+    double lag_us = (target - (double)H.avr->cycle) / hz * 1e6;
+
+    if (lag_us > MAX_LAG_US) {
+        H.rebases++;
+        if (lag_us > H.lag_max_us)
+            H.lag_max_us = lag_us;
+        H.base_wall = t;
+        H.base_cycle = H.avr->cycle;
+        return H.avr->cycle;
+    }
+    return target > 0 ? (avr_cycle_count_t)target : 0;
+}
+
+/* Wait until the wall clock lets simulated time move on by a slice,
+ * waking early for host bytes or commands. */
+static void wait_for_time(avr_cycle_count_t ahead)
+{
+    double s = (double)ahead / (H.avr->frequency * H.opt.rate);
+    struct timespec ts = { 0, (long)(s * 1e9) + 1000 };
+    struct pollfd p[2] = {
+        { .fd = H.br.host_present ? H.br.master : -1, .events = POLLIN },
+        { .fd = H.stdin_open ? 0 : -1, .events = POLLIN },
+    };
+
+    ppoll(p, 2, &ts, NULL);
+}
+
+static int run_slice(void)
+{
+    avr_cycle_count_t slice = (avr_cycle_count_t)H.avr->frequency / 1000000 * SLICE_US;
+    avr_cycle_count_t allowed = allowed_cycle();
+    avr_cycle_count_t limit;
+
+    if (H.avr->cycle >= allowed) {
+        wait_for_time(H.avr->cycle + slice - allowed);
+        return cpu_Running;
+    }
+    limit = allowed < H.avr->cycle + slice ? allowed : H.avr->cycle + slice;
+    while (H.avr->cycle < limit) {
+        int state = avr_run(H.avr);
+        if (state == cpu_Done || state == cpu_Crashed)
+            return state;
+    }
+    return cpu_Running;
+}
+
+/* ------------------------------------------------------------ set-up */
+static void on_wire_byte(void *ctx, uint8_t byte, int to_board,
+                         avr_cycle_count_t when)
+{
+    link_watch_byte(ctx, byte, to_board, when);
+}
+
+/* An AVR reset (its watchdog, say) clears the I/O registers and every
+ * cycle timer: start the wheels and the wire again, pins as they were. */
+static void on_reset(avr_t *avr)
+{
+    if (H.core_reset)
+        H.core_reset(avr);
+    H.resets++;
+    wheels_rearm(&H.ws);
+    bridge_rearm(&H.br);
+}
+
+static void usage(void)
+{
+    fprintf(stderr,
+        "usage: rcl-simavr [--rate R] [--hold arm|jaw]... [--stats FILE] [--quiet] firmware.elf\n"
+        "  --rate R      simulated seconds per real second (default 1)\n"
+        "  --hold SW     start with the arm or jaw limit switch held (pin low)\n"
+        "  --stats FILE  JSON figures at exit, on SIGUSR1 and on \"stats\"\n");
+    exit(2);
+}
+
+static void parse_options(int argc, char **argv, options *o)
+{
+    o->rate = 1.0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--rate") == 0 && i + 1 < argc) {
+            o->rate = atof(argv[++i]);
+            if (!(o->rate > 0.0 && o->rate <= 100.0))
+                usage();
+        } else if (strcmp(a, "--hold") == 0 && i + 1 < argc) {
+            int which = limit_named(argv[++i]);
+            if (which < 0)
+                usage();
+            o->hold[which] = 1;
+        } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
+            o->stats_path = argv[++i];
+        } else if (strcmp(a, "--quiet") == 0) {
+            o->quiet = 1;
+        } else if (a[0] == '-' || o->elf) {
+            usage();
+        } else {
+            o->elf = a;
+        }
+    }
+    if (!o->elf)
+        usage();
+}
+
+static avr_t *load(const char *path)
+{
+    elf_firmware_t f;
+    avr_t *avr;
+
+    memset(&f, 0, sizeof f);
+    if (elf_read_firmware(path, &f) != 0) {
+        fprintf(stderr, "rcl-simavr: cannot read firmware %s\n", path);
+        exit(1);
+    }
+    /* the image is a plain avr-gcc ELF: no .mmcu section to name its
+     * chip, so the Uno's is given here */
+    strcpy(f.mmcu, MCU);
+    f.frequency = MCU_HZ;
+    avr = avr_make_mcu_by_name(f.mmcu);
+    if (!avr || avr_init(avr) != 0) {
+        fprintf(stderr, "rcl-simavr: simavr has no %s\n", MCU);
+        exit(1);
+    }
+    avr_load_firmware(avr, &f);
+    avr->log = LOG_WARNING;
+    avr->sleep = no_sleep;
+    return avr;
+}
+
+static void install_signals(void)
+{
+    struct sigaction sa;
+
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGUSR1, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+    /* a test that dies must not leave a simulated robot running */
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+}
+
+int main(int argc, char **argv)
+{
+    int state = cpu_Running;
+
+    parse_options(argc, argv, &H.opt);
+    avr_global_logger_set(log_to_stderr);
+    install_signals();
+    H.avr = load(H.opt.elf);
+    link_watch_init(&H.lw, H.avr->frequency);
+    if (bridge_open(&H.br, H.avr, BAUD) < 0) {
+        perror("rcl-simavr: openpty");
+        return 1;
+    }
+    H.br.on_byte = on_wire_byte;
+    H.br.on_byte_ctx = &H.lw;
+    memcpy(H.ws.limit_held, H.opt.hold, sizeof H.ws.limit_held);
+    wheels_start(&H.ws, H.avr);
+    H.core_reset = H.avr->reset;
+    H.avr->reset = on_reset;
+    H.stdin_open = 1;
+    printf("%s\n", H.br.slave_name);
+    fflush(stdout);
+    H.start_wall = H.base_wall = now_s();
+    H.base_cycle = H.avr->cycle;
+    while (!quit_signal && state == cpu_Running) {
+        read_commands();
+        bridge_pump(&H.br);
+        state = run_slice();
+        bridge_pump(&H.br);
+        if (stats_signal) {
+            stats_signal = 0;
+            write_stats_file();
+        }
+    }
+    if (state != cpu_Running)
+        fprintf(stderr, "rcl-simavr: the AVR stopped (%s) at %.6f s\n",
+                state == cpu_Crashed ? "crashed" : "sleeping with interrupts off",
+                (double)H.avr->cycle / H.avr->frequency);
+    write_stats_file();
+    if (!H.opt.quiet)
+        stats_json(stderr);
+    bridge_close(&H.br);
+    return state == cpu_Running ? 0 : 1;
+}
