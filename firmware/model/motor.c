@@ -47,8 +47,6 @@ int motor_step(motor *m, double drive, double dt)
      * dt well below the time constant) */
     m->position += 0.5 * (start + m->speed) * dt;
     whole = (long)floor(m->position);
-    if (m->position < 0.0 && (double)whole != m->position)
-        whole = (long)floor(m->position);
     out = (int)(whole - m->edges);
     m->edges = whole;
     return out;
