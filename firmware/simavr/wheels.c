@@ -33,6 +33,7 @@ static const wheel_pins PINS[WHEEL_COUNT] = {
 };
 
 static const int LIMIT_PINS[LIMIT_COUNT] = { [LIMIT_ARM] = 4, [LIMIT_JAW] = 5 };
+#define PORTC_DRIVEN 0x3Fu    /* PC0..PC5: encoders and limit switches */
 
 /* An output pin's level; an input pin floats and the L298N reads low. */
 static int out_level(const avr_t *avr, int port, int bit)
@@ -77,9 +78,24 @@ double wheels_drive(const wheels *ws, int which)
     return in1 ? duty : -duty;
 }
 
-/* One edge toward the model's count: gray code, so one pin changes. */
-static void show_one_edge(wheel *w)
+/* A level on a PORTC input pin. simavr 1.6 re-raises an input pin from
+ * its "external pull" whenever the firmware writes PORTC or DDRC (to
+ * model pull-ups), which would undo a level raised only through the
+ * pin's IRQ: so the pull is kept equal to what the harness drives. */
+static void set_pin(wheels *ws, avr_irq_t *pin, int bit, unsigned level)
 {
+    avr_ioport_external_t ext = { .name = 'C', .mask = PORTC_DRIVEN };
+
+    ws->portc = (uint8_t)((ws->portc & ~(1u << bit)) | (level & 1u) << bit);
+    ext.value = ws->portc;
+    avr_ioctl(ws->avr, AVR_IOCTL_IOPORT_SET_EXTERNAL('C'), &ext);
+    avr_raise_irq(pin, level & 1u);
+}
+
+/* One edge toward the model's count: gray code, so one pin changes. */
+static void show_one_edge(wheels *ws, int i)
+{
+    wheel *w = &ws->w[i];
     unsigned ab;
 
     if (w->shown == w->m.edges)
@@ -87,9 +103,9 @@ static void show_one_edge(wheel *w)
     w->shown += w->shown < w->m.edges ? 1 : -1;
     ab = motor_ab_at(w->shown);
     if ((ab ^ w->ab) & 1u)
-        avr_raise_irq(w->pin_a, ab & 1u);
+        set_pin(ws, w->pin_a, PINS[i].enc_a, ab & 1u);
     if ((ab ^ w->ab) & 2u)
-        avr_raise_irq(w->pin_b, ab >> 1 & 1u);
+        set_pin(ws, w->pin_b, PINS[i].enc_b, ab >> 1 & 1u);
     w->ab = ab;
 }
 
@@ -102,7 +118,7 @@ static avr_cycle_count_t step(avr_t *avr, avr_cycle_count_t when, void *param)
         wheel *w = &ws->w[i];
         w->drive = wheels_drive(ws, i);
         motor_step(&w->m, w->drive, dt);
-        show_one_edge(w);
+        show_one_edge(ws, i);
     }
     ws->steps++;
     return when + ws->step_cycles;
@@ -111,21 +127,15 @@ static avr_cycle_count_t step(avr_t *avr, avr_cycle_count_t when, void *param)
 void wheels_hold_limit(wheels *ws, int which, int held)
 {
     ws->limit_held[which] = held;
-    avr_raise_irq(ws->limit_pin[which], held ? 0 : 1);
+    set_pin(ws, ws->limit_pin[which], LIMIT_PINS[which], held ? 0 : 1);
 }
 
 void wheels_rearm(wheels *ws)
 {
     avr_t *avr = ws->avr;
-    uint8_t pinc = 0;
 
     /* the reset zeroed PINC behind the pins' IRQs: put the levels back */
-    for (int i = 0; i < WHEEL_COUNT; i++)
-        pinc |= (uint8_t)((ws->w[i].ab & 1u) << PINS[i].enc_a |
-                          (ws->w[i].ab >> 1 & 1u) << PINS[i].enc_b);
-    for (int i = 0; i < LIMIT_COUNT; i++)
-        pinc |= (uint8_t)(!ws->limit_held[i] << LIMIT_PINS[i]);
-    avr->data[R_PINC] = pinc;
+    avr->data[R_PINC] = (uint8_t)((avr->data[R_PINC] & ~PORTC_DRIVEN) | ws->portc);
     if (avr_cycle_timer_status(avr, step, ws) == 0)
         avr_cycle_timer_register(avr, ws->step_cycles, step, ws);
 }
@@ -137,6 +147,7 @@ void wheels_start(wheels *ws, avr_t *avr)
     motor_default_params(&params);
     ws->avr = avr;
     ws->steps = 0;
+    ws->portc = 0;
     ws->step_cycles = (avr_cycle_count_t)avr->frequency / 1000000 * WHEEL_STEP_US;
     for (int i = 0; i < WHEEL_COUNT; i++) {
         wheel *w = &ws->w[i];
@@ -150,7 +161,7 @@ void wheels_start(wheels *ws, avr_t *avr)
     for (int i = 0; i < LIMIT_COUNT; i++) {
         ws->limit_pin[i] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'),
                                          LIMIT_PINS[i]);
-        /* simavr 1.6 has no pull-ups: a released switch is driven high */
+        /* a released switch is high: its pull-up */
         wheels_hold_limit(ws, i, ws->limit_held[i]);
     }
     avr_cycle_timer_register(avr, ws->step_cycles, step, ws);

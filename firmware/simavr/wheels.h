@@ -35,6 +35,7 @@ typedef struct wheels {
     wheel w[WHEEL_COUNT];
     avr_irq_t *limit_pin[LIMIT_COUNT];
     int limit_held[LIMIT_COUNT];
+    uint8_t portc;              /* levels driven on PC0..PC5 */
     avr_cycle_count_t step_cycles;
     unsigned long steps;
 } wheels;
