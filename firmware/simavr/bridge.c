@@ -42,6 +42,10 @@ static void board_sent(avr_irq_t *irq, uint32_t value, void *param)
     bridge *b = param;
 
     (void)irq;
+    if (b->cut) {
+        b->lost_to_cut++;
+        return;
+    }
     b->from_board++;
     if (b->on_byte)
         b->on_byte(b->on_byte_ctx, (uint8_t)value, 0, b->avr->cycle);
@@ -57,6 +61,10 @@ static void enqueue(bridge *b, const uint8_t *p, size_t n)
 {
     int idle = b->count == 0;
 
+    if (b->cut) {
+        b->lost_to_cut += n;
+        return;
+    }
     for (size_t i = 0; i < n; i++) {
         if (b->count == BRIDGE_QUEUE) {
             b->dropped_in += n - i;
@@ -144,6 +152,15 @@ void bridge_pump(bridge *b)
     if (p.revents & POLLIN)
         read_host(b);
     write_host(b);
+}
+
+void bridge_cut(bridge *b, int cut)
+{
+    b->cut = cut;
+    if (cut) {
+        b->lost_to_cut += b->count;
+        b->count = 0;
+    }
 }
 
 void bridge_rearm(bridge *b)

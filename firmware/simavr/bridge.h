@@ -25,13 +25,14 @@ typedef struct bridge {
     int master;                     /* pty master, non-blocking */
     char slave_name[64];
     int host_present;               /* the slave is open at the other end */
+    int cut;                        /* the wire is cut: bytes lost both ways */
     avr_irq_t *uart_in;             /* simavr's UART0 input IRQ */
     avr_cycle_count_t byte_cycles;  /* one 8N1 byte at 115200 baud */
     uint8_t queue[BRIDGE_QUEUE];    /* host -> board, not yet sent */
     size_t head, count;
     uint8_t out[4096];              /* board -> host, not yet written */
     size_t out_len;
-    unsigned long to_board, from_board, dropped_in, dropped_out;
+    unsigned long to_board, from_board, dropped_in, dropped_out, lost_to_cut;
     bridge_byte_fn on_byte;         /* every byte each way, for the stats */
     void *on_byte_ctx;
 } bridge;
@@ -42,6 +43,9 @@ int bridge_open(bridge *b, avr_t *avr, long baud);
 /* Move bytes between the pty and the simulation: read what the host
  * wrote, write what the board sent. Call often (every slice). */
 void bridge_pump(bridge *b);
+
+/* Cut the wire (1) or mend it (0): what is on it is lost. */
+void bridge_cut(bridge *b, int cut);
 
 /* After an AVR reset, which cancels every cycle timer. */
 void bridge_rearm(bridge *b);

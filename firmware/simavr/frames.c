@@ -108,6 +108,8 @@ static void scan(link_watch *w, frame_rx *rx)
             continue;
         }
         rx->good++;
+        if (!rx->from_board)
+            w->last_host_frame = rx->when[len + 5];
         rx->by_type[rx->buf[3]]++;
         if (rx->from_board && rx->buf[3] == FRAME_TICK && len >= 4)
             on_tick(w, rx->buf + 4, rx->when[0]);
@@ -157,8 +159,9 @@ static void types_json(FILE *f, const frame_rx *rx)
 
 void link_watch_json(const link_watch *w, FILE *f)
 {
-    fprintf(f, "\"tick_frames\": %lu, \"ticks_missed\": %lu, ",
-            w->ticks, w->missed);
+    fprintf(f, "\"tick_frames\": %lu, \"ticks_missed\": %lu, "
+               "\"last_host_frame_s\": %.6f, ",
+            w->ticks, w->missed, (double)w->last_host_frame / w->hz);
     acc_json(f, "tick_period_us", &w->period_us);
     fputs(", ", f);
     acc_json(f, "bytes_per_tick_to_board", &w->per_tick[0]);

@@ -45,6 +45,7 @@ typedef struct link_watch {
     uint16_t last_tick;
     avr_cycle_count_t last_tick_at;
     unsigned long ticks, missed;
+    avr_cycle_count_t last_host_frame; /* end of the last good host frame */
     acc period_us;                    /* one TICK to the next */
     unsigned long bytes_in[2];        /* [to_board, from_board] since last TICK */
     acc per_tick[2];

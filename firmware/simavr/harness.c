@@ -10,7 +10,8 @@
  * re-bases, so the board never sees time pass that the host had no
  * chance to answer in.
  *
- * Lines on stdin: "hold arm|jaw", "release arm|jaw", "stats" (one JSON
+ * Lines on stdin: "hold arm|jaw", "release arm|jaw", "cut" and "mend"
+ * (the serial line: bytes lost both ways while cut), "stats" (one JSON
  * line on stdout), "quit". SIGUSR1 writes the stats file; SIGTERM,
  * SIGINT, SIGHUP and "quit" write it and exit.
  */
@@ -117,6 +118,10 @@ static void stats_json(FILE *f)
             ws->w[WHEEL_LEFT].shown, ws->w[WHEEL_RIGHT].shown,
             ws->w[WHEEL_LEFT].drive, ws->w[WHEEL_RIGHT].drive,
             ws->limit_held[LIMIT_ARM], ws->limit_held[LIMIT_JAW]);
+    fprintf(f, "\"stopped_s\": %.6f, \"aux_pins\": %u, \"cut\": %d, "
+               "\"lost_to_cut\": %lu, ",
+            (double)ws->stopped_at / H.avr->frequency, wheels_aux(ws),
+            H.br.cut, H.br.lost_to_cut);
     fprintf(f, "\"bytes_to_board\": %lu, \"bytes_from_board\": %lu, "
                "\"dropped_to_board\": %lu, \"dropped_from_board\": %lu, ",
             H.br.to_board, H.br.from_board, H.br.dropped_in, H.br.dropped_out);
@@ -166,6 +171,8 @@ static void command(const char *cmd)
         write_stats_file();
     } else if (strcmp(verb, "quit") == 0) {
         quit_signal = SIGTERM;
+    } else if (strcmp(verb, "cut") == 0 || strcmp(verb, "mend") == 0) {
+        bridge_cut(&H.br, verb[0] == 'c');
     } else if ((strcmp(verb, "hold") == 0 || strcmp(verb, "release") == 0) &&
                (which = limit_named(arg)) >= 0) {
         wheels_hold_limit(&H.ws, which, verb[0] == 'h');

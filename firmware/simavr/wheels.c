@@ -114,14 +114,27 @@ static avr_cycle_count_t step(avr_t *avr, avr_cycle_count_t when, void *param)
     wheels *ws = param;
     double dt = (double)ws->step_cycles / avr->frequency;
 
+    int moving = 0;
+
     for (int i = 0; i < WHEEL_COUNT; i++) {
         wheel *w = &ws->w[i];
         w->drive = wheels_drive(ws, i);
+        moving |= w->drive != 0.0;
         motor_step(&w->m, w->drive, dt);
         show_one_edge(ws, i);
     }
+    if (ws->moving && !moving)
+        ws->stopped_at = when;
+    ws->moving = moving;
     ws->steps++;
     return when + ws->step_cycles;
+}
+
+unsigned wheels_aux(const wheels *ws)
+{
+    return (unsigned)(out_level(ws->avr, R_PORTB, 1) |
+                      out_level(ws->avr, R_PORTB, 2) << 1 |
+                      out_level(ws->avr, R_PORTB, 3) << 2);
 }
 
 void wheels_hold_limit(wheels *ws, int which, int held)

@@ -38,6 +38,8 @@ typedef struct wheels {
     uint8_t portc;              /* levels driven on PC0..PC5 */
     avr_cycle_count_t step_cycles;
     unsigned long steps;
+    int moving;                 /* some wheel had drive at the last step */
+    avr_cycle_count_t stopped_at;  /* when the drive last went to none */
 } wheels;
 
 /* Wire the models to the pins and start stepping them. */
@@ -51,5 +53,9 @@ void wheels_hold_limit(wheels *ws, int which, int held);
 
 /* The drive the pins ask of a wheel now, in [-1, 1]. */
 double wheels_drive(const wheels *ws, int which);
+
+/* The AUX outputs' levels: bit 0 arm motor (PB1), bit 1 gripper (PB2),
+ * bit 2 beeper (PB3). */
+unsigned wheels_aux(const wheels *ws);
 
 #endif
