@@ -28,6 +28,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "avr_extint.h"
 #include "sim_avr.h"
 #include "sim_elf.h"
 
@@ -333,6 +334,12 @@ static avr_t *load(const char *path)
         exit(1);
     }
     avr_load_firmware(avr, &f);
+    /* simavr polls a low INT0/INT1 pin at every cycle while its (reset
+     * default) low-level mode is set, enabled or not; the Uno's D2 and
+     * D3 are outputs that sit low, which cost a full core. As a falling
+     * edge it is only looked at when the pin changes. */
+    avr_extint_set_strict_lvl_trig(avr, 0, 0);
+    avr_extint_set_strict_lvl_trig(avr, 1, 0);
     avr->log = LOG_WARNING;
     avr->sleep = no_sleep;
     return avr;
