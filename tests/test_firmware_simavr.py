@@ -10,7 +10,6 @@ simulated time follows real time but never runs ahead of it, so a stalled
 machine only slows the board down."""
 import json
 import os
-import shutil
 import signal
 import struct
 import subprocess
@@ -19,81 +18,68 @@ import time
 import pytest
 import serial
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SIMAVR_DIR = os.path.join(ROOT, "firmware", "simavr")
-HARNESS = os.path.join(SIMAVR_DIR, "build", "rcl-simavr")
-PINS_TEST = os.path.join(SIMAVR_DIR, "build", "pins-test.elf")
-INSTALL = ("apt-get install --no-install-recommends gcc-avr avr-libc binutils-avr "
-           "libsimavr-dev")
+from firmware_support import BUILD, INSTALL, ROOT, BoardProcess, build
+
+SIMAVR_BUILD = ROOT / "firmware" / "simavr" / "build"
+HARNESS = SIMAVR_BUILD / "rcl-simavr"
+PINS_TEST = SIMAVR_BUILD / "pins-test.elf"
 
 
-def missing_toolchain():
-    """What is missing to build the harness and AVR images, or None."""
-    missing = [tool for tool in ("make", "cc", "avr-gcc") if shutil.which(tool) is None]
-    if not os.path.exists("/usr/include/simavr/sim_avr.h"):
-        missing.append("simavr's headers")
-    return missing or None
-
-
-@pytest.fixture(scope="module")
 def harness_built():
-    missing = missing_toolchain()
-    if missing:
-        pytest.skip("simavr tests need %s: %s" % (", ".join(missing), INSTALL))
-    run = subprocess.run(["make", "-C", SIMAVR_DIR], capture_output=True, text=True)
-    assert run.returncode == 0, run.stdout + run.stderr
+    """Build rcl-simavr and its test program (skip, saying what to install,
+    without the toolchain or simavr's headers)."""
+    if not os.path.exists("/usr/include/simavr/sim_avr.h"):
+        pytest.skip("simavr's headers are missing (libsimavr-dev): " + INSTALL)
+    build("simavr")
     return HARNESS
 
 
-class Simavr:
-    """An rcl-simavr process; its first line of output is its pty."""
+class Simavr(BoardProcess):
+    """rcl-simavr running an image: a board process whose figures (true
+    edges, TICK period, bytes each way) come from its stats file."""
 
-    def __init__(self, tmp_path, elf, *args):
-        self.stats_path = tmp_path / ("stats-%d.json" % id(self))
-        self.proc = subprocess.Popen(
-            [HARNESS, "--quiet", "--stats", str(self.stats_path), *args, elf],
-            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-            text=True)
-        self.pty = self.proc.stdout.readline().strip()
+    def __init__(self, tmp_path, elf, *options):
+        self.stats_path = tmp_path / ("simavr-%s.json" % os.path.basename(str(elf)))
+        super().__init__([harness_built(), "--quiet", "--stats", self.stats_path,
+                          *options, elf])
 
-    def command(self, line):
-        self.proc.stdin.write(line + "\n")
-        self.proc.stdin.flush()
+    def figures(self):
+        """The harness's figures now (SIGUSR1 asks for a fresh stats file)."""
+        seen = self._report()
+        os.kill(self.proc.pid, signal.SIGUSR1)
+        self.wait_for(lambda: self._report() > seen)
+        return json.loads(self.stats_path.read_text())
 
-    def stats(self):
-        """The harness's figures now (true edges, ticks, bytes each way)."""
-        self.command("stats")
-        return json.loads(self.proc.stdout.readline())
+    def _report(self):
+        try:
+            return json.loads(self.stats_path.read_text())["report"]
+        except (OSError, ValueError):
+            return 0
 
     def stop(self):
-        """Stop it; -> its last figures."""
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            self.proc.wait(10)
+        """Stop it; -> its last figures (written as it exits)."""
+        self.close()
         return json.loads(self.stats_path.read_text())
 
 
 @pytest.fixture
-def simavr(harness_built, tmp_path):
+def simavr(tmp_path):
     started = []
 
-    def start(elf, *args):
-        started.append(Simavr(tmp_path, elf, *args))
+    def start(elf, *options):
+        started.append(Simavr(tmp_path, elf, *options).__enter__())
         return started[-1]
     yield start
-    for s in started:
-        if s.proc.poll() is None:
-            s.proc.kill()
-            s.proc.wait(10)
+    for board in started:
+        board.close()
 
 
 # ------------------------------------------- the harness, on its own program
 class PinsTest:
     """firmware/simavr/test/pins.c over the harness's pty."""
 
-    def __init__(self, sim):
-        self.sim = sim
-        self.port = serial.Serial(sim.pty, 115200, timeout=5)
+    def __init__(self, path):
+        self.port = serial.Serial(path, 115200, timeout=5)
 
     def ask(self, request, reply_len):
         self.port.write(request)
@@ -121,39 +107,54 @@ class PinsTest:
             pass
 
 
-def test_the_harness_prints_its_pty_first_and_carries_bytes_both_ways(simavr):
-    sim = simavr(PINS_TEST)
-    assert sim.pty.startswith("/dev/pts/")
-    board = PinsTest(sim)
-    noise = bytes(b for b in range(256) if b not in b"mcts")
-    board.port.write(noise)
-    assert board.port.read(len(noise)) == noise
-    figures = sim.stop()
-    assert figures["bytes_to_board"] == figures["bytes_from_board"] == len(noise)
-    assert figures["dropped_to_board"] == 0
+def test_the_harness_prints_its_pty_first_takes_commands_and_carries_bytes_both_ways(tmp_path):
+    stats = tmp_path / "stats.json"
+    proc = subprocess.Popen([harness_built(), "--quiet", "--stats", stats, PINS_TEST],
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    try:
+        path = proc.stdout.readline().strip()
+        assert path.startswith("/dev/pts/")
+        board = PinsTest(path)
+        noise = bytes(b for b in range(256) if b not in b"mcts")
+        board.port.write(noise)
+        assert board.port.read(len(noise)) == noise
+        assert board.limits() == 0b11                   # both switches open: pulled up
+        proc.stdin.write("hold arm\nstats\n")
+        proc.stdin.flush()
+        figures = json.loads(proc.stdout.readline())
+        assert figures["limits_held"] == [1, 0] and board.limits() == 0b10
+        assert figures["bytes_to_board"] == len(noise) + 1
+        assert figures["bytes_from_board"] == len(noise) + 2
+        proc.stdin.write("quit\n")
+        proc.stdin.flush()
+        assert proc.wait(10) == 0
+        assert json.loads(stats.read_text())["dropped_to_board"] == 0
+    finally:
+        proc.kill()
+        proc.wait()
 
 
 def test_pwm_duty_and_the_l298n_inputs_set_each_models_drive(simavr):
     sim = simavr(PINS_TEST)
-    board = PinsTest(sim)
+    board = PinsTest(sim.path)
     board.drive(63, -127)                       # OCR0B 127, OCR0A 255: fast PWM
     board.wait_ticks(1)
-    assert sim.stats()["drive"] == [128 / 256, -1.0]
+    assert sim.figures()["drive"] == [128 / 256, -1.0]
     board.drive(0, 0)                           # IN1 = IN2: no drive
     board.wait_ticks(1)
-    assert sim.stats()["drive"] == [0.0, 0.0]
+    assert sim.figures()["drive"] == [0.0, 0.0]
 
 
 def test_every_edge_the_motor_model_makes_reaches_the_pin_change_interrupt(simavr):
     sim = simavr(PINS_TEST)
-    board = PinsTest(sim)
+    board = PinsTest(sim.path)
     board.drive(127, -90)                       # left forward at full speed
     board.wait_ticks(50)                        # 0.5 s: 5,600 edges and more
     board.drive(0, 0)
     board.wait_ticks(50)                        # ten time constants: at rest
     while True:                                 # one reading between two equal ones
         before = board.edges()
-        figures = sim.stats()
+        figures = sim.figures()
         if board.edges() == before:
             break
     left, right, errors = before
@@ -162,20 +163,16 @@ def test_every_edge_the_motor_model_makes_reaches_the_pin_change_interrupt(simav
     assert left > 5000 and right < -3000        # A leads B forward; B leads A back
 
 
-def test_a_held_limit_switch_reads_low_and_a_released_one_high(simavr):
+def test_a_limit_switch_held_from_the_start_reads_low(simavr):
     sim = simavr(PINS_TEST, "--hold", "jaw")
-    board = PinsTest(sim)
-    assert board.limits() == 0b01               # arm released (high), jaw held
-    sim.command("hold arm")
-    sim.command("release jaw")
-    board.wait_ticks(1)
-    assert board.limits() == 0b10
-    assert sim.stats()["limits_held"] == [1, 0]
+    board = PinsTest(sim.path)
+    assert board.limits() == 0b01               # arm open (pulled up), jaw held
+    assert sim.figures()["limits_held"] == [0, 1]
 
 
 def test_simulated_time_never_runs_ahead_and_a_stall_is_not_caught_up(simavr):
     sim = simavr(PINS_TEST)
-    board = PinsTest(sim)
+    board = PinsTest(sim.path)
     board.wait_ticks(5)
     os.kill(sim.proc.pid, signal.SIGSTOP)       # the machine stalls half a second
     time.sleep(0.5)
@@ -190,9 +187,9 @@ def test_simulated_time_never_runs_ahead_and_a_stall_is_not_caught_up(simavr):
 
 def test_at_half_rate_the_board_runs_half_as_fast_as_the_wall_clock(simavr):
     sim = simavr(PINS_TEST, "--rate", "0.5")
-    board = PinsTest(sim)
+    board = PinsTest(sim.path)
     board.wait_ticks(10)
     ticks = board.ticks()
-    figures = sim.stats()
+    figures = sim.figures()
     assert figures["sim_s"] <= 0.5 * figures["wall_s"] + 0.001
     assert abs(ticks - figures["sim_s"] * 100) <= 1      # Timer1 runs on simulated time

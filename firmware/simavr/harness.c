@@ -61,6 +61,7 @@ typedef struct harness {
     avr_cycle_count_t base_cycle;     /* simulated cycle at that time */
     double start_wall;
     unsigned long rebases, resets;
+    unsigned long reports;            /* stats files written, for a reader to wait on */
     double lag_max_us;                /* deepest fall behind before a re-base */
     char line[256];                   /* stdin command being read */
     size_t line_len;
@@ -109,9 +110,10 @@ static void stats_json(FILE *f)
     const wheels *ws = &H.ws;
     double sim_s = (double)H.avr->cycle / H.avr->frequency;
 
-    fprintf(f, "{\"sim_s\": %.6f, \"wall_s\": %.3f, \"rate\": %g, "
-               "\"rebases\": %lu, \"lag_max_us\": %.0f, \"resets\": %lu, ",
-            sim_s, now_s() - H.start_wall, H.opt.rate, H.rebases,
+    fprintf(f, "{\"report\": %lu, \"sim_s\": %.6f, \"wall_s\": %.3f, "
+               "\"rate\": %g, \"rebases\": %lu, \"lag_max_us\": %.0f, "
+               "\"resets\": %lu, ",
+            H.reports, sim_s, now_s() - H.start_wall, H.opt.rate, H.rebases,
             H.lag_max_us, H.resets);
     fprintf(f, "\"edges\": [%.0f, %.0f], \"pin_edges\": [%ld, %ld], "
                "\"drive\": [%.4f, %.4f], \"limits_held\": [%d, %d], ",
@@ -138,6 +140,7 @@ static void write_stats_file(void)
 
     if (!H.opt.stats_path)
         return;
+    H.reports++;
     snprintf(tmp, sizeof tmp, "%s.tmp", H.opt.stats_path);
     f = fopen(tmp, "w");
     if (!f) {
