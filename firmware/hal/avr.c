@@ -134,6 +134,11 @@ uint32_t hal_micros(void)
     }
 }
 
+uint32_t hal_link_micros(void)
+{
+    return hal_micros();
+}
+
 uint8_t hal_take_ms(void)
 {
     uint8_t n;

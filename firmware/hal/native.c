@@ -9,7 +9,8 @@
  * (default 1) in 1 ms steps, and never catches up: after a stall (the
  * process not scheduled) it goes on from where it was, as if the board
  * had been paused, so no tick is ever due that the host could not have
- * answered. */
+ * answered. At a rate other than 1 the link's own timers (HEARTBEAT,
+ * the watchdog) keep to the wall clock, as the host's do. */
 #define _XOPEN_SOURCE 600
 #define _DEFAULT_SOURCE
 #include "../src/hal.h"
@@ -143,6 +144,13 @@ static void pace(void)
 uint32_t hal_micros(void)
 {
     return n.now_us;
+}
+
+uint32_t hal_link_micros(void)
+{
+    if (n.rate == 1.0)
+        return n.now_us;
+    return (uint32_t)(uint64_t)wall_us();
 }
 
 uint8_t hal_take_ms(void)

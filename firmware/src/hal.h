@@ -12,6 +12,10 @@ int hal_getc(void);                 /* next received byte, -1 if none */
 void hal_putc(uint8_t byte);        /* waits while the send buffer is full */
 
 uint32_t hal_micros(void);          /* board time in us, wraps at 2^32 */
+/* the clock of the link's timers (HEARTBEAT, watchdog): board time, but
+ * a native board run faster than real time keeps them on the wall
+ * clock, as the host's own timers are */
+uint32_t hal_link_micros(void);
 uint8_t hal_take_ms(void);          /* 1 ms speed-loop periods since last call */
 uint8_t hal_take_ticks(void);       /* tick timer expiries since last call */
 void hal_tick_period(uint32_t us);  /* tick timer period; 0 stops it */

@@ -36,7 +36,7 @@ static void put_frame(const uint8_t *f, uint8_t n)
 {
     for (uint8_t i = 0; i < n; i++)
         hal_putc(f[i]);
-    k.last_sent_us = hal_micros();
+    k.last_sent_us = hal_link_micros();
 }
 
 /* Build a frame in `out`; -> its length. */
@@ -208,7 +208,7 @@ static void resend(uint8_t seq)
 /* A good frame (section 3's rules). */
 static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
 {
-    k.last_valid_us = hal_micros();
+    k.last_valid_us = hal_link_micros();
     k.watchdog_tripped = 0;
     if (type == HELLO) {
         hal_note(NOTE_HELLO, len ? p[0] : 0);
@@ -298,7 +298,7 @@ void link_rx(uint8_t byte)
 
 void link_poll(void)
 {
-    uint32_t now = hal_micros();
+    uint32_t now = hal_link_micros();
 
     if (!k.watchdog_tripped && now - k.last_valid_us >= WATCHDOG_US) {
         board_safe();               /* section 6: the host is silent */
@@ -320,6 +320,6 @@ void link_init(void)
     memset(&k, 0, sizeof k);
     k.expected = 1;
     k.send_seq = 1;
-    k.last_valid_us = k.last_sent_us = hal_micros();
+    k.last_valid_us = k.last_sent_us = hal_link_micros();
     k.watchdog_tripped = 1;         /* nobody has spoken yet */
 }
