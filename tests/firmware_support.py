@@ -237,3 +237,53 @@ class FaultRelay:
 
     def __exit__(self, *exc):
         self.close()
+
+
+class RawLink:
+    """Frames straight to a board's pty, without rcl: for the protocol's
+    own rules (repeats, NAK, bad payloads, the watchdog's silence)."""
+
+    def __init__(self, path):
+        from rcl.hw import protocol
+        self.P = protocol
+        self.fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
+        tty.setraw(self.fd)
+        self.reader = protocol.FrameReader()
+        self.raw = bytearray()          # every byte received, for byte-for-byte checks
+
+    def send(self, data):
+        os.write(self.fd, data)
+
+    def frame(self, seq, name, /, **values):
+        data = self.P.frame(seq, name, **values)
+        self.send(data)
+        return data
+
+    def receive(self, want=None, seconds=2.0):
+        """Frames until one named `want` (or any, if None) comes; -> it, or
+        None after `seconds` (a bound for a broken board, not a measure)."""
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            ready, _, _ = select.select([self.fd], [], [], 0.05)
+            if not ready:
+                continue
+            data = os.read(self.fd, 4096)
+            self.raw += data
+            for f in self.reader.feed(data):
+                if want is None or f.name == want:
+                    return f
+        return None
+
+    def answer(self, seq, name, /, **values):
+        """Send a sequenced frame; -> its answer (ACK, VALUE, RESULTS or
+        REFUSED carrying `ack` = seq), skipping TICKs and HEARTBEATs."""
+        self.frame(seq, name, **values)
+        end = time.monotonic() + 2.0
+        while time.monotonic() < end:
+            f = self.receive()
+            if f is not None and "ack" in f.values and f["ack"] == seq:
+                return f
+        return None
+
+    def close(self):
+        os.close(self.fd)

@@ -9,8 +9,14 @@
  * (default 1) in 1 ms steps, and never catches up: after a stall (the
  * process not scheduled) it goes on from where it was, as if the board
  * had been paused, so no tick is ever due that the host could not have
- * answered. At a rate other than 1 the link's own timers (HEARTBEAT,
- * the watchdog) keep to the wall clock, as the host's do. */
+ * answered. Nor does it run a tick ahead of the host: tick n+1 waits
+ * until the host has finished tick n (its final TICK_DONE), for at most
+ * HOLD_MAX_US of wall time, and not once the watchdog has tripped. A
+ * host that keeps up (a round trip is about 1 ms) never meets the wait,
+ * and the board runs free as firmware on a microcontroller does; a host
+ * stalled by a busy machine finds the board where it left it. The
+ * link's own timers (HEARTBEAT, the watchdog) keep to the wall clock, as
+ * the host's do. */
 #define _XOPEN_SOURCE 600
 #define _DEFAULT_SOURCE
 #include "../src/hal.h"
@@ -29,6 +35,7 @@
 
 #define STEP_US 1000u               /* physics and speed-loop step */
 #define MAX_BEHIND_US 2000.0        /* more behind than this is dropped, not caught up */
+#define HOLD_MAX_US 1000000.0       /* the host's own give-up time for an answer */
 
 static struct {
     int master, slave;
@@ -39,6 +46,10 @@ static struct {
     uint8_t ms, ticks;              /* steps and tick expiries not yet taken */
     uint32_t period_us, tick_left_us;
     uint32_t tick_total;
+    int waiting;                    /* a TICK sent, its final TICK_DONE not come */
+    uint16_t waiting_tick;
+    double waiting_since;           /* wall us */
+    unsigned long holds;            /* steps a tick waited for the host */
     motor wheel[2];
     double drive[2];
     uint8_t out[4096];
@@ -109,6 +120,20 @@ void hal_init(void)
 
 /* ------------------------------------------------------------- time */
 
+/* The next tick is due in this step, and the host has not finished the
+ * last one: wait for it (a bounded time). */
+static int held(double wall)
+{
+    if (!n.waiting || !n.period_us || n.tick_left_us > STEP_US)
+        return 0;
+    if (wall - n.waiting_since > HOLD_MAX_US) {
+        n.waiting = 0;              /* the host has gone: run free */
+        return 0;
+    }
+    n.holds++;
+    return 1;
+}
+
 static void step(void)
 {
     for (int w = 0; w < 2; w++)
@@ -136,6 +161,10 @@ static void pace(void)
     if (n.owed_us > MAX_BEHIND_US)
         n.owed_us = MAX_BEHIND_US;
     while (n.owed_us >= STEP_US) {
+        if (held(w)) {
+            n.owed_us = 0.0;        /* held time is not owed afterwards */
+            return;
+        }
         n.owed_us -= STEP_US;
         step();
     }
@@ -148,8 +177,6 @@ uint32_t hal_micros(void)
 
 uint32_t hal_link_micros(void)
 {
-    if (n.rate == 1.0)
-        return n.now_us;
     return (uint32_t)(uint64_t)wall_us();
 }
 
@@ -261,13 +288,32 @@ void hal_led(uint8_t on)
     (void)on;
 }
 
+static int pacing_note(uint8_t event, uint32_t value)
+{
+    if (event == NOTE_TICK_SENT) {
+        n.waiting = 1;
+        n.waiting_tick = (uint16_t)value;
+        n.waiting_since = wall_us();
+    } else if (event == NOTE_TICK_DONE) {
+        if ((uint16_t)value == n.waiting_tick)
+            n.waiting = 0;
+    } else if (event == NOTE_HELLO || event == NOTE_WATCHDOG) {
+        n.waiting = 0;              /* a new host, or none: nothing to wait for */
+    }
+    return event == NOTE_TICK_SENT || event == NOTE_TICK_DONE;
+}
+
 void hal_note(uint8_t event, uint32_t value)
 {
     static const char *names[] = { "hello", "motor", "watchdog", "safe" };
 
+    if (pacing_note(event, value))
+        return;
     /* the wheels' positions in whole encoder counts, as the 8253s see them */
-    printf("%s us=%lu tick=%lu value=%lu left=%ld right=%ld\n", names[event & 3],
-           (unsigned long)n.now_us, (unsigned long)n.tick_total, (unsigned long)value,
-           n.wheel[0].edges / 4, n.wheel[1].edges / 4);
+    printf("%s us=%lu tick=%lu holds=%lu value=%lu left=%ld right=%ld left_rate=%d "
+           "right_rate=%d\n",
+           names[event & 3], (unsigned long)n.now_us, (unsigned long)n.tick_total, n.holds,
+           (unsigned long)value, n.wheel[0].edges / 4, n.wheel[1].edges / 4,
+           (int)(n.wheel[0].speed / 4), (int)(n.wheel[1].speed / 4));
     fflush(stdout);
 }

@@ -12,9 +12,9 @@ int hal_getc(void);                 /* next received byte, -1 if none */
 void hal_putc(uint8_t byte);        /* waits while the send buffer is full */
 
 uint32_t hal_micros(void);          /* board time in us, wraps at 2^32 */
-/* the clock of the link's timers (HEARTBEAT, watchdog): board time, but
- * a native board run faster than real time keeps them on the wall
- * clock, as the host's own timers are */
+/* the clock of the link's timers (HEARTBEAT, watchdog): board time on
+ * a microcontroller; the wall clock on the native board, whose board
+ * time may wait for the host or run faster than real time */
 uint32_t hal_link_micros(void);
 uint8_t hal_take_ms(void);          /* 1 ms speed-loop periods since last call */
 uint8_t hal_take_ticks(void);       /* tick timer expiries since last call */
@@ -29,8 +29,9 @@ void hal_aux(uint8_t aux);          /* AUX latch: arm, gripper, beeper */
 uint8_t hal_switches(void);         /* bit 0 arm limit, bit 1 jaw limit: 1 = closed */
 void hal_led(uint8_t on);
 
-/* Events for a test's log (native build); nothing on a microcontroller. */
-enum { NOTE_HELLO, NOTE_MOTOR, NOTE_WATCHDOG, NOTE_SAFE };
+/* Events for the native build (a test's log, and its pacing: it never
+ * runs a tick ahead of the host); nothing on a microcontroller. */
+enum { NOTE_HELLO, NOTE_MOTOR, NOTE_WATCHDOG, NOTE_SAFE, NOTE_TICK_SENT, NOTE_TICK_DONE };
 void hal_note(uint8_t event, uint32_t value);
 
 void hal_args(int argc, char **argv);  /* the native build's options */

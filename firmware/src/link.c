@@ -27,6 +27,7 @@ static struct {
     saved_frame last_reply;         /* the answer a repeat gets again */
     uint8_t last_reply_seq;         /* the host SEQ it answered */
     uint32_t last_sent_us, last_valid_us;
+    uint32_t last_valid_board_us;   /* the same moment in board time */
     uint8_t watchdog_tripped;
 } k;
 
@@ -100,6 +101,7 @@ void link_send_tick(uint16_t tick, uint16_t off, const uint8_t *results, uint8_t
     p[3] = (uint8_t)(off >> 8);
     memcpy(p + 4, results, n);
     send_sequenced(TICK, p, (uint8_t)(4 + n));
+    hal_note(NOTE_TICK_SENT, tick);
 }
 
 static void identify(void)
@@ -176,9 +178,14 @@ static void act(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
     case TICK_DONE:                 /* the handler's writes, at once; `us` unused */
         for (uint8_t i = 5; i < len; i += 3)
             board_out8(u16(p + i), p[i + 2]);
+        if (p[2])
+            hal_note(NOTE_TICK_DONE, u16(p));
         break;
     case SAFE: board_safe(); break;
-    case TICK_FAILED: board_tick_failed(); break;
+    case TICK_FAILED:
+        board_tick_failed();
+        hal_note(NOTE_TICK_DONE, board_tick_count());
+        break;
     default:
         refuse(seq, "not a host message");
         return;
@@ -209,6 +216,7 @@ static void resend(uint8_t seq)
 static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
 {
     k.last_valid_us = hal_link_micros();
+    k.last_valid_board_us = hal_micros();
     k.watchdog_tripped = 0;
     if (type == HELLO) {
         hal_note(NOTE_HELLO, len ? p[0] : 0);
@@ -303,7 +311,7 @@ void link_poll(void)
     if (!k.watchdog_tripped && now - k.last_valid_us >= WATCHDOG_US) {
         board_safe();               /* section 6: the host is silent */
         k.watchdog_tripped = 1;
-        hal_note(NOTE_WATCHDOG, now - k.last_valid_us);
+        hal_note(NOTE_WATCHDOG, hal_micros() - k.last_valid_board_us);
     }
     if (now - k.last_sent_us >= HEARTBEAT_US)
         heartbeat();

@@ -1,28 +1,46 @@
 /* The software PLL of speed.h.
  *
  *   duty = feed-forward (the duty that turns the motor at the reference
- *          rate, from MOTOR_MAX_EDGES_PER_S) + KP * phase error
+ *          rate, from MOTOR_MAX_EDGES_PER_S)
+ *        + KP * phase error + KD * its slope over the last 4 ms
  *
  * The phase error is the integral of the rate error, so the loop is a PI
  * speed loop that also owes back every edge it fell behind: like the
  * article's PLL, the wheel's distance follows the reference's, not only
- * its speed. The error is clamped (ERR_MAX) so a held wheel does not
- * wind up and lurch when let go. */
+ * its speed. The slope term damps it (it is the rate error, measured
+ * over 4 ms so that one encoder edge is not a kick). The gains place
+ * the phase error within 2 counts through RCL's ramps (measured on
+ * model/motor.c: 12,000 edges/s, 50 ms); docs/firmware.md says how to
+ * retune. The error is clamped (ERR_MAX) so a held wheel does not wind
+ * up and lurch when let go. */
 #include "speed.h"
 #include "config.h"
 
 #define EDGES_PER_MS_Q16 ((REF_CLOCK_HZ * EDGES_PER_COUNT / 1000UL) << 16)   /* / N */
 #define FF_NUM (REF_CLOCK_HZ * EDGES_PER_COUNT * 255UL)                      /* / N / max */
-#define KP_Q8 51L                           /* 0.2 duty steps per edge of error */
+#ifndef KP_Q8
+#define KP_Q8 512L                          /* 2 duty steps per edge of phase error */
+#endif
+#ifndef KD_Q8
+#define KD_Q8 2048L                         /* 8 duty steps per edge per 4 ms */
+#endif
 #define ERR_MAX (256L << 16)                /* 64 counts */
 #define LOCK_EDGES 8                        /* 2 counts: the STATUS lock bit */
 
-void speed_init(speed_loop *s, int32_t edges)
+static void forget(speed_loop *s)
 {
     s->err_q16 = 0;
-    s->last_edges = edges;
-    s->duty = 0;
+    for (uint8_t i = 0; i < 4; i++)
+        s->past_q16[i] = 0;
     s->locked = 0;
+    s->duty = 0;
+}
+
+void speed_init(speed_loop *s, int32_t edges)
+{
+    forget(s);
+    s->at = 0;
+    s->last_edges = edges;
 }
 
 static int16_t clamp_duty(int32_t d)
@@ -34,32 +52,42 @@ static int16_t clamp_duty(int32_t d)
     return (int16_t)d;
 }
 
+static int32_t clamp_err(int32_t e)
+{
+    if (e > ERR_MAX)
+        return ERR_MAX;
+    if (e < -ERR_MAX)
+        return -ERR_MAX;
+    return e;
+}
+
 int16_t speed_step(speed_loop *s, uint32_t n, uint8_t run, uint8_t rev,
                    int32_t edges, uint8_t ms)
 {
     int32_t moved = edges - s->last_edges;
-    int32_t inc, ff, p;
+    int32_t inc, ff, p, d, slope;
 
     s->last_edges = edges;
     if (!run || n == 0) {
-        s->err_q16 = 0;             /* a new GO starts locked where the wheel is */
-        s->locked = 0;
-        s->duty = 0;
+        forget(s);                  /* a new GO starts locked where the wheel is */
         return 0;
     }
+    if (ms == 0)
+        return s->duty;
     inc = (int32_t)(EDGES_PER_MS_Q16 / n) * ms;
     ff = (int32_t)(FF_NUM / n / MOTOR_MAX_EDGES_PER_S);
     if (rev) {
         inc = -inc;
         ff = -ff;
     }
-    s->err_q16 += inc - moved * 65536L;
-    if (s->err_q16 > ERR_MAX)
-        s->err_q16 = ERR_MAX;
-    if (s->err_q16 < -ERR_MAX)
-        s->err_q16 = -ERR_MAX;
-    p = ((s->err_q16 >> 8) * KP_Q8) >> 16;   /* |err| <= 2^24: no overflow */
+    s->err_q16 = clamp_err(s->err_q16 + inc - moved * 65536L);
+    slope = s->err_q16 - s->past_q16[s->at];           /* over the last 4 steps */
+    s->past_q16[s->at] = s->err_q16;
+    s->at = (uint8_t)((s->at + 1) & 3);
+    /* |err| <= 2^24 and |slope| <= 2^25: the products fit 32 bits */
+    p = ((s->err_q16 >> 8) * KP_Q8) >> 16;
+    d = ((slope >> 10) * KD_Q8) >> 14;
     s->locked = s->err_q16 < (LOCK_EDGES * 65536L) && s->err_q16 > -(LOCK_EDGES * 65536L);
-    s->duty = clamp_duty(ff + p);
+    s->duty = clamp_duty(ff + p + d);
     return s->duty;
 }

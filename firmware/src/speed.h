@@ -8,6 +8,8 @@
 
 typedef struct speed_loop {
     int32_t err_q16;        /* reference phase - wheel phase, edges << 16 */
+    int32_t past_q16[4];    /* the error of the last 4 ms, for its slope */
+    uint8_t at;             /* where the oldest of them is */
     int32_t last_edges;     /* encoder edges at the last step */
     int16_t duty;           /* the last output, -255..255 */
     uint8_t locked;         /* |phase error| within LOCK_EDGES */
