@@ -68,7 +68,9 @@ def init_counters(m):
 
 def read_position(m, wheel):
     """Latch and read one wheel's counters, add the pulses since the last
-    read to the 32-bit totals; -> forward minus reverse, as a 32-bit value."""
+    read to the 32-bit totals (fewer than 32,768 a read: 13 s at the top
+    speed, and the tick reads every 10 ms); -> forward minus reverse, as a
+    32-bit value."""
     base, mem = BASES[wheel], m.memory
     r = m.board.port_script(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),
                              (IN8, base + 1, 0), (IN8, base + 1, 0),
@@ -79,7 +81,11 @@ def read_position(m, wheel):
     for i in range(2):
         prev = mem.fetch(a + 2 * i)
         lo, hi = mem.dfetch(a + 4 + 4 * i)
-        total = (((hi << 16) | lo) + ((prev - now[i]) & MASK)) & 0xFFFFFFFF
+        # signed: over a link to a free-running board a tick's script reads
+        # can reach the handler after a later foreground read; such an
+        # older value takes those counts back rather than adding 65536
+        delta = ((prev - now[i] + 0x8000) & MASK) - 0x8000
+        total = (((hi << 16) | lo) + delta) & 0xFFFFFFFF
         mem.store(a + 2 * i, now[i])
         mem.dstore(a + 4 + 4 * i, total & MASK, total >> 16)
         totals.append(total)
