@@ -315,6 +315,11 @@ void hal_led(uint8_t on)
     if (on) SET(LED_PORT, LED_BIT); else CLR(LED_PORT, LED_BIT);
 }
 
+uint8_t hal_holding(void)
+{
+    return 0;                       /* a real board never waits for the host */
+}
+
 void hal_note(uint8_t event, uint32_t value)
 {
     (void)event;

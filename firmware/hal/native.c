@@ -134,6 +134,11 @@ static int held(double wall)
     return 1;
 }
 
+uint8_t hal_holding(void)
+{
+    return (uint8_t)(n.waiting && n.period_us && n.tick_left_us <= STEP_US);
+}
+
 static void step(void)
 {
     for (int w = 0; w < 2; w++)
@@ -305,14 +310,14 @@ static int pacing_note(uint8_t event, uint32_t value)
 
 void hal_note(uint8_t event, uint32_t value)
 {
-    static const char *names[] = { "hello", "motor", "watchdog", "safe" };
+    static const char *names[] = { "hello", "motor", "watchdog", "safe", "silence" };
 
     if (pacing_note(event, value))
         return;
     /* the wheels' positions in whole encoder counts, as the 8253s see them */
     printf("%s us=%lu tick=%lu holds=%lu value=%lu left=%ld right=%ld left_rate=%d "
            "right_rate=%d\n",
-           names[event & 3], (unsigned long)n.now_us, (unsigned long)n.tick_total, n.holds,
+           names[event], (unsigned long)n.now_us, (unsigned long)n.tick_total, n.holds,
            (unsigned long)value, n.wheel[0].edges / 4, n.wheel[1].edges / 4,
            (int)(n.wheel[0].speed / 4), (int)(n.wheel[1].speed / 4));
     fflush(stdout);

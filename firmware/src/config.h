@@ -19,6 +19,7 @@
 #define SAVED_MAX 26                /* TICK with 16 script reads: 6 + 4 + 16 */
 
 #define HEARTBEAT_US 50000UL
+#define HOLD_HEARTBEAT_US 10000UL   /* native board waiting for the host (hal.h) */
 #define WATCHDOG_US 250000UL
 #define TICK_US 10000U              /* reported in IDENTIFY: RCL's rate */
 

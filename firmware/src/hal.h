@@ -31,8 +31,15 @@ void hal_led(uint8_t on);
 
 /* Events for the native build (a test's log, and its pacing: it never
  * runs a tick ahead of the host); nothing on a microcontroller. */
-enum { NOTE_HELLO, NOTE_MOTOR, NOTE_WATCHDOG, NOTE_SAFE, NOTE_TICK_SENT, NOTE_TICK_DONE };
+enum { NOTE_HELLO, NOTE_MOTOR, NOTE_WATCHDOG, NOTE_SAFE, NOTE_SILENCE, NOTE_TICK_SENT,
+       NOTE_TICK_DONE };
 void hal_note(uint8_t event, uint32_t value);
+
+/* 1 while the native board holds its time for the host's answer to a
+ * tick (the board then sends HEARTBEATs every 10 ms, so that a lost
+ * TICK is asked for again at once and a frame's corrupted LEN byte is
+ * passed quickly); always 0 on a microcontroller */
+uint8_t hal_holding(void);
 
 void hal_args(int argc, char **argv);  /* the native build's options */
 void hal_idle(void);                /* nothing to do until the next event */

@@ -311,9 +311,10 @@ void link_poll(void)
     if (!k.watchdog_tripped && now - k.last_valid_us >= WATCHDOG_US) {
         board_safe();               /* section 6: the host is silent */
         k.watchdog_tripped = 1;
-        hal_note(NOTE_WATCHDOG, hal_micros() - k.last_valid_board_us);
+        hal_note(NOTE_SILENCE, now - k.last_valid_us);            /* link clock */
+        hal_note(NOTE_WATCHDOG, hal_micros() - k.last_valid_board_us);   /* board time */
     }
-    if (now - k.last_sent_us >= HEARTBEAT_US)
+    if (now - k.last_sent_us >= (hal_holding() ? HOLD_HEARTBEAT_US : HEARTBEAT_US))
         heartbeat();
     hal_led(link_up());
 }
