@@ -40,6 +40,7 @@ void speed_init(speed_loop *s, int32_t edges)
 {
     forget(s);
     s->at = 0;
+    s->n = 0;
     s->last_edges = edges;
 }
 
@@ -74,8 +75,13 @@ int16_t speed_step(speed_loop *s, uint32_t n, uint8_t run, uint8_t rev,
     }
     if (ms == 0)
         return s->duty;
-    inc = (int32_t)(EDGES_PER_MS_Q16 / n) * ms;
-    ff = (int32_t)(FF_NUM / n / MOTOR_MAX_EDGES_PER_S);
+    if (n != s->n) {
+        s->n = n;
+        s->inc_q16 = (int32_t)(EDGES_PER_MS_Q16 / n);
+        s->ff = (int32_t)(FF_NUM / n / MOTOR_MAX_EDGES_PER_S);
+    }
+    inc = s->inc_q16 * ms;
+    ff = s->ff;
     if (rev) {
         inc = -inc;
         ff = -ff;

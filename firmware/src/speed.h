@@ -12,6 +12,8 @@ typedef struct speed_loop {
     uint8_t at;             /* where the oldest of them is */
     int32_t last_edges;     /* encoder edges at the last step */
     int16_t duty;           /* the last output, -255..255 */
+    uint32_t n;             /* the count inc and ff were computed for */
+    int32_t inc_q16, ff;    /* per ms; kept: an AVR divides 32 bits slowly */
     uint8_t locked;         /* |phase error| within LOCK_EDGES */
 } speed_loop;
 
