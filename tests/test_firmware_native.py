@@ -290,7 +290,10 @@ def test_heartbeats_come_every_50_ms_of_board_time_while_nothing_else_is_sent(ra
         raw.frame(0, "PING")                             # keep the watchdog fed
         beats.append(f["time_us"])
     gaps = [b - a for a, b in zip(beats, beats[1:])]
-    assert all(50_000 <= g <= 51_000 for g in gaps)
+    # never more than 50 ms and a 1 ms step of board time apart (the link's
+    # clock is the wall clock, and board time never runs ahead of it: a
+    # stalled board drops time, so there is no lower bound in board time)
+    assert all(0 < g <= 51_000 for g in gaps)
     assert f["ticking"] == 0                             # the BIOS's INT 1Ch: no TICKs
 
 

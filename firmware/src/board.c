@@ -20,7 +20,7 @@ static struct {
     pcb pcb;
     uint8_t motor, aux;
     int32_t seen_edges[2];          /* encoder edges already counted */
-    int8_t quarter[2];              /* edges toward the next whole count */
+    int32_t part[2];                /* edges toward the next whole count, x DEN */
     speed_loop loop[2];
     uint8_t script[SCRIPT_MAX * 4];
     uint8_t script_n;
@@ -36,24 +36,26 @@ static struct {
 
 static void count_encoder(uint8_t w)
 {
-    /* whole encoder counts (4 edges) go to counter 1 (forward) or 2
-     * (reverse), as the R-E Robot's direction decoder steers them */
+    /* whole encoder counts go to counter 1 (forward) or 2 (reverse), as
+     * the R-E Robot's direction decoder steers them; edges are weighed
+     * EDGES_PER_COUNT_DEN each and a count is EDGES_PER_COUNT_NUM */
     int32_t now = hal_encoder(w);
     int32_t d = now - b.seen_edges[w];
     i8253 *chip = &b.chip[w];
+    int32_t whole;
 
+    if (d == 0)
+        return;
     b.seen_edges[w] = now;
-    while (d > 0 || d < 0) {
-        int16_t step = d > 1000 ? 1000 : (d < -1000 ? -1000 : (int16_t)d);
-        int16_t q = (int16_t)(b.quarter[w] + step);
-        int16_t whole = q / EDGES_PER_COUNT;
-        d -= step;
-        b.quarter[w] = (int8_t)(q - whole * EDGES_PER_COUNT);
-        if (whole > 0)
-            i8253_pulse(&chip->c[1], (uint16_t)whole);
-        else if (whole < 0)
-            i8253_pulse(&chip->c[2], (uint16_t)-whole);
-    }
+    if (d > 30000 || d < -30000)
+        d = d > 0 ? 30000 : -30000;    /* cannot happen between two polls */
+    b.part[w] += d * EDGES_PER_COUNT_DEN;
+    whole = b.part[w] / EDGES_PER_COUNT_NUM;
+    b.part[w] -= whole * EDGES_PER_COUNT_NUM;
+    if (whole > 0)
+        i8253_pulse(&chip->c[1], (uint16_t)whole);
+    else if (whole < 0)
+        i8253_pulse(&chip->c[2], (uint16_t)-whole);
 }
 
 static void sync_encoders(void)

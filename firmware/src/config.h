@@ -54,12 +54,28 @@
 #define M1_LOCK 0x10
 #define M2_LOCK 0x20
 
-/* The robot: the 8253's 125 kHz reference clock, and the drive motor the
- * speed loop's feed-forward assumes (edges/s at full duty; model/motor.c
- * gives the same figure to the simulated motor). A robot with another
- * motor changes MOTOR_MAX_EDGES_PER_S; see docs/firmware.md. */
+/* The robot. RCL measures distance in the R-E Robot's encoder counts:
+ * 500 a turn of a wheel 17.6 inches round, 625/22 counts an inch; its
+ * speeds in counts/s (the 8253's 125 kHz / N). The firmware turns its own
+ * encoder's quadrature edges into those counts, EDGES_PER_COUNT_NUM /
+ * EDGES_PER_COUNT_DEN edges a count:
+ *
+ *     edges per count = edges per wheel turn x 22 / (625 x wheel
+ *                       circumference in inches)
+ *
+ * The R-E Robot's 500-line encoder on a 17.6-inch wheel: 2000 x 22 /
+ * (625 x 17.6) = 4. A robot with 1320 edges a turn (11 lines, 30:1
+ * gears) on 65 mm wheels (8.04 in round): 5.78, written 578 / 100.
+ * docs/firmware.md, "A new robot". Make takes them: make
+ * EDGES_PER_COUNT=578/100. MOTOR_MAX_EDGES_PER_S is the motor's speed at
+ * full duty, in edges/s, for the speed loop's feed-forward. */
 #define REF_CLOCK_HZ 125000UL
-#define EDGES_PER_COUNT 4           /* quadrature: 4 edges per encoder line */
+#ifndef EDGES_PER_COUNT_NUM
+#define EDGES_PER_COUNT_NUM 4L
+#endif
+#ifndef EDGES_PER_COUNT_DEN
+#define EDGES_PER_COUNT_DEN 1L
+#endif
 #ifndef MOTOR_MAX_EDGES_PER_S
 #define MOTOR_MAX_EDGES_PER_S 12000L
 #endif

@@ -16,8 +16,11 @@
 #include "speed.h"
 #include "config.h"
 
-#define EDGES_PER_MS_Q16 ((REF_CLOCK_HZ * EDGES_PER_COUNT / 1000UL) << 16)   /* / N */
-#define FF_NUM (REF_CLOCK_HZ * EDGES_PER_COUNT * 255UL)                      /* / N / max */
+/* edges per ms << 16, and the feed-forward duty, times N (folded at
+ * compile time in 64 bits; the results fit 32) */
+#define EDGES_PER_MS_Q16 ((uint32_t)(((uint64_t)(REF_CLOCK_HZ / 1000) * EDGES_PER_COUNT_NUM << 16) \
+                                     / EDGES_PER_COUNT_DEN))
+#define FF_NUM ((uint32_t)((uint64_t)REF_CLOCK_HZ * 255 * EDGES_PER_COUNT_NUM / EDGES_PER_COUNT_DEN))
 #ifndef KP_Q8
 #define KP_Q8 512L                          /* 2 duty steps per edge of phase error */
 #endif
