@@ -98,6 +98,9 @@ int bridge_open(bridge *b, avr_t *avr, long baud)
     close(slave);
     fcntl(b->master, F_SETFL, fcntl(b->master, F_GETFL) | O_NONBLOCK);
     b->uart_in = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
+    for (avr_io_t *io = avr->io_port; io; io = io->next)
+        if (strcmp(io->kind, "uart") == 0 && ((avr_uart_t *)io)->name == '0')
+            b->uart = (avr_uart_t *)io;
     avr_irq_register_notify(
         avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT),
         board_sent, b);
@@ -142,10 +145,36 @@ static void write_host(bridge *b)
     b->out_len = 0;
 }
 
+/* ATmega328P USART0 registers (data-space addresses) */
+#define R_UCSR0A 0xC0
+#define R_UCSR0B 0xC1
+#define R_UCSR0C 0xC2
+#define R_UBRR0L 0xC4
+#define R_UBRR0H 0xC5
+
+/* simavr 1.6 times every UART byte as if it had a parity bit (11 bits
+ * for 8N1), so the simulated UART both sends and takes bytes 10 % slower
+ * than the AVR does, and a long burst from the 115200 wire overruns its
+ * receive FIFO. Put the AVR's own byte time back, from the same
+ * registers simavr reads. */
+static void fix_uart_timing(bridge *b)
+{
+    const uint8_t *d = b->avr->data;
+    unsigned ubrr = d[R_UBRR0L] | (d[R_UBRR0H] & 0x0Fu) << 8;
+    unsigned size = d[R_UCSR0C] >> 1 & 3u;
+    unsigned bits = 1 + (size == 3 ? 8 : 5 + size) + (d[R_UCSR0B] >> 2 & 1u) +
+                    ((d[R_UCSR0C] >> 4 & 3u) ? 1 : 0) + 1 + (d[R_UCSR0C] >> 3 & 1u);
+    avr_cycle_count_t per_bit = (ubrr + 1) * ((d[R_UCSR0A] >> 1 & 1u) ? 8 : 16);
+
+    if (b->uart)
+        b->uart->cycles_per_byte = per_bit * bits;
+}
+
 void bridge_pump(bridge *b)
 {
     struct pollfd p = { .fd = b->master, .events = POLLIN };
 
+    fix_uart_timing(b);
     if (poll(&p, 1, 0) < 0)
         return;
     b->host_present = !(p.revents & POLLHUP);

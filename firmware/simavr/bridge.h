@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "avr_uart.h"
 #include "sim_avr.h"
 
 #define BRIDGE_QUEUE 65536          /* host bytes not yet on the wire */
@@ -27,6 +28,7 @@ typedef struct bridge {
     int host_present;               /* the slave is open at the other end */
     int cut;                        /* the wire is cut: bytes lost both ways */
     avr_irq_t *uart_in;             /* simavr's UART0 input IRQ */
+    avr_uart_t *uart;               /* its state, for the byte time */
     avr_cycle_count_t byte_cycles;  /* one 8N1 byte at 115200 baud */
     uint8_t queue[BRIDGE_QUEUE];    /* host -> board, not yet sent */
     size_t head, count;

@@ -63,15 +63,19 @@ static void on_tick(link_watch *w, const uint8_t *payload,
                     avr_cycle_count_t at)
 {
     uint16_t tick = (uint16_t)(payload[0] | payload[1] << 8);
+    uint16_t step = (uint16_t)(tick - w->last_tick);
 
+    /* a TICK sent again on the host's NAK is not a new tick: its time
+     * says nothing about the tick period */
+    if (w->have_tick && (step == 0 || step >= 0x8000))
+        return;
     if (w->have_tick) {
-        uint16_t step = (uint16_t)(tick - w->last_tick);
         if (step == 1) {
             acc_add(&w->period_us, (double)(at - w->last_tick_at) * 1e6 / w->hz);
             acc_add(&w->per_tick[0], (double)w->bytes_in[0]);
             acc_add(&w->per_tick[1], (double)w->bytes_in[1]);
         } else {
-            w->missed += (uint16_t)(step - 1);
+            w->missed += (unsigned long)(step - 1);
         }
     }
     w->have_tick = 1;
