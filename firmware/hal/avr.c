@@ -172,13 +172,16 @@ void hal_tick_period(uint32_t us)
     }
     if (us == 0)
         return;
+    /* the mode and clock first, then the compare value: simavr (like
+     * the data sheet's examples) takes OCR1A in the mode it is written in */
     if (us <= 32768UL) {
-        OCR1A = (uint16_t)(2 * us - 1);
         TCCR1B = (uint8_t)((1u << WGM12) | (1u << CS11));              /* /8 */
+        OCR1A = (uint16_t)(2 * us - 1);
     } else {
-        OCR1A = (uint16_t)((us > 262144UL ? 262144UL : us) / 4 - 1);
         TCCR1B = (uint8_t)((1u << WGM12) | (1u << CS11) | (1u << CS10)); /* /64 */
+        OCR1A = (uint16_t)((us > 262144UL ? 262144UL : us) / 4 - 1);
     }
+    TCNT1 = 0;
     TIFR1 = (uint8_t)(1u << OCF1A);
     TIMSK1 = (uint8_t)(1u << OCIE1A);
 }
@@ -186,8 +189,9 @@ void hal_tick_period(uint32_t us)
 static void clocks_init(void)
 {
     TCCR2A = (uint8_t)(1u << WGM21);                    /* CTC */
-    OCR2A = 249;                                        /* 16 MHz / 64 / 250 */
     TCCR2B = (uint8_t)(1u << CS22);                     /* /64 */
+    OCR2A = 249;                                        /* 16 MHz / 64 / 250 */
+    TCNT2 = 0;
     TIMSK2 = (uint8_t)(1u << OCIE2A);
     TCCR1A = 0;
 }
