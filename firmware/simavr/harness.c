@@ -91,7 +91,7 @@ static void on_signal(int sig)
 static void log_to_stderr(avr_t *avr, const int level, const char *fmt,
                           va_list ap)
 {
-    if (avr && level > avr->log)
+    if (level > (avr ? avr->log : LOG_WARNING))
         return;
     vfprintf(stderr, fmt, ap);
 }
@@ -336,6 +336,7 @@ static avr_t *load(const char *path)
         fprintf(stderr, "rcl-simavr: simavr has no %s\n", MCU);
         exit(1);
     }
+    avr->log = LOG_WARNING;
     avr_load_firmware(avr, &f);
     /* simavr polls a low INT0/INT1 pin at every cycle while its (reset
      * default) low-level mode is set, enabled or not; the Uno's D2 and
@@ -343,7 +344,6 @@ static avr_t *load(const char *path)
      * edge it is only looked at when the pin changes. */
     avr_extint_set_strict_lvl_trig(avr, 0, 0);
     avr_extint_set_strict_lvl_trig(avr, 1, 0);
-    avr->log = LOG_WARNING;
     avr->sleep = no_sleep;
     return avr;
 }
