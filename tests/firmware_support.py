@@ -13,7 +13,8 @@ link's fault cases.
         relay.corrupt = 0.01; relay.drop = 0.01; relay.cut(); relay.mend()
         relay.flood(b"...")          # garbage into the board's line
 
-Without the toolchain the tests skip and say what to install.
+Without the toolchain the tests skip and say what to install (or fail,
+with RCL_REQUIRE_FIRMWARE=1, as CI wants).
 """
 import os
 import pathlib
@@ -47,10 +48,15 @@ def missing_tools(tools):
 
 
 def require_tools(tools):
-    """Skip the test, saying what to install, when a tool is missing."""
+    """Skip the test, saying what to install, when a tool is missing; a
+    failure instead where the firmware tests must run (CI sets
+    RCL_REQUIRE_FIRMWARE=1 after installing the toolchain)."""
     gone = missing_tools(tools)
     if gone:
-        pytest.skip("firmware toolchain missing (%s): %s" % (", ".join(gone), INSTALL))
+        why = "firmware toolchain missing (%s): %s" % (", ".join(gone), INSTALL)
+        if os.environ.get("RCL_REQUIRE_FIRMWARE") == "1":
+            pytest.fail(why)
+        pytest.skip(why)
 
 
 def build(*targets, **make_vars):

@@ -309,3 +309,82 @@ def test_a_counter_read_older_than_the_last_takes_counts_back_instead_of_adding_
     older = (m.board.chips[0x80].counters[1].value + 3) & 0xFFFF
     m.evaluate("HEX 74 83 PC! %X 81 PC! %X 81 PC! DECIMAL" % (older & 0xFF, older >> 8))
     assert int(m.evaluate("?CNT1 D.")) == before - 3
+
+
+def hello(raw):
+    raw.frame(0, "HELLO", version=1)
+    assert raw.receive("IDENTIFY") is not None
+
+
+def store32(raw, seq, seg, off, value):
+    """FAR_STORE a 32-bit value, little-endian; -> the next SEQ."""
+    for i in range(4):
+        assert raw.answer(seq, "FAR_STORE", seg=seg, off=off + i,
+                          value=(value >> 8 * i) & 0xFF).name == "ACK"
+        seq += 1
+    return seq
+
+
+def fetch32(raw, seq, seg, off):
+    """-> (value, next SEQ)"""
+    v = sum(raw.answer(seq + i, "FAR_FETCH", seg=seg, off=off + i)["value"] << 8 * i
+            for i in range(4))
+    return v, seq + 4
+
+
+def test_the_bios_tick_count_wraps_at_the_ticks_per_day_and_sets_the_midnight_flag(raw):
+    hello(raw)
+    seq = store32(raw, 1, 0x40, 0xF0, 3)             # a day of 3 ticks
+    seq = store32(raw, seq, 0x40, 0x6C, 0)
+    flag, end = 0, time.monotonic() + 5         # (a bound for a broken board only)
+    while not flag and time.monotonic() < end:   # ticks of the power-on 54.9 ms
+        assert raw.receive("HEARTBEAT") is not None
+        flag = raw.answer(seq, "FAR_FETCH", seg=0x40, off=0x70)["value"]
+        seq = seq % 255 + 1
+    count, seq = fetch32(raw, seq, 0x40, 0x6C)
+    assert flag == 1 and count < 3
+
+
+def test_ticks_come_in_order_with_the_scripts_reads_once_int_1ch_points_into_the_forth_segment(raw):
+    hello(raw)
+    seq = 1
+    for port, value in ((0x83, 0x74), (0x81, 0x34), (0x81, 0x12)):   # counter 1: 0x1234
+        assert raw.answer(seq, "OUT8", port=port, value=value).name == "ACK"
+        seq += 1
+    script = [(0, 0x83, 0x40), (1, 0x81, 0), (1, 0x81, 0)]            # latch, LSB, MSB
+    assert raw.answer(seq, "SNAPSHOT", ops=script).name == "ACK"
+    seq += 1
+    assert raw.answer(seq, "OUT16", port=0xFF52, value=6667).name == "ACK"   # RCL's 10 ms
+    seq = store32(raw, seq + 1, 0, 0x70, 0x1000_2A10)  # INT 1Ch -> 1000:2A10
+    ticks = []
+    while len(ticks) < 5:
+        f = raw.receive("TICK")
+        assert f is not None
+        ticks.append(f)
+        raw.frame(0, "PING")
+    numbers = [t["tick"] for t in ticks]
+    assert numbers == list(range(numbers[0], numbers[0] + 5))
+    assert all(t["off"] == 0x2A10 and [r for (r,) in t["results"]] == [0x34, 0x12]
+               for t in ticks)
+
+
+def test_tick_failed_stops_the_tick_and_clears_timer_0s_int_bit(raw):
+    hello(raw)
+    seq = store32(raw, 1, 0, 0x70, 0x1000_2A10)
+    assert raw.answer(seq, "OUT16", port=0xFF52, value=6667).name == "ACK"
+    assert raw.receive("TICK") is not None
+    assert raw.answer(seq + 1, "TICK_FAILED").name == "ACK"
+    control = raw.answer(seq + 2, "IN16", port=0xFF56)["value"]
+    assert control & 0x2000 == 0 and control & 0x8000            # INT off, still counting
+    heartbeat = raw.receive("HEARTBEAT")
+    assert heartbeat["ticking"] == 0
+
+
+def test_a_nak_for_a_frame_older_than_the_16_kept_gets_no_answer(raw):
+    hello(raw)
+    answers = [raw.answer(seq, "IN8", port=0x8A) for seq in range(1, 21)]
+    oldest = answers[0].seq                      # 19 board frames ago: gone
+    raw.frame(0, "NAK", seq=oldest)
+    raw.frame(0, "NAK", seq=answers[10].seq)     # 9 ago: kept
+    again = raw.receive("VALUE")
+    assert again.seq == answers[10].seq          # the kept one, and only it
