@@ -17,8 +17,7 @@
  * stalled by a busy machine finds the board where it left it. The
  * link's own timers (HEARTBEAT, the watchdog) keep to the wall clock, as
  * the host's do. */
-#define _XOPEN_SOURCE 600
-#define _DEFAULT_SOURCE
+#define _GNU_SOURCE                 /* ppoll */
 #include "../src/hal.h"
 #include "../model/motor.h"
 #include "../src/config.h"
@@ -214,14 +213,19 @@ void hal_tick_period(uint32_t us)
 
 void hal_idle(void)
 {
-    /* sleep until a byte comes or the next step is due */
+    /* sleep until a byte comes or the next step is due (a busy loop here
+     * would take a core from the host on a busy machine) */
     struct pollfd p = { .fd = n.master, .events = POLLIN };
     double wait_us = (STEP_US - n.owed_us) / n.rate;
-    int ms = (int)(wait_us / 1000.0);
+    struct timespec t;
 
+    if (wait_us < 50.0)
+        wait_us = 50.0;
     if (n.out_n)
         p.events |= POLLOUT;
-    poll(&p, 1, ms < 0 ? 0 : ms);
+    t.tv_sec = 0;
+    t.tv_nsec = (long)(wait_us * 1000.0);
+    ppoll(&p, 1, &t, NULL);
 }
 
 /* --------------------------------------------------------- the line */
