@@ -121,8 +121,9 @@ def test_listing_1_drives_the_square_as_the_simulated_board(board, host):
 # --------------------------------------------------------------- the link
 def test_corrupted_and_dropped_bytes_both_ways_change_no_count(board, host):
     b = board(rate=2)
-    with FaultRelay(b.path, seed=7, corrupt=0.01, drop=0.005) as relay:
+    with FaultRelay(b.path, seed=7) as relay:
         m = host(relay.path)
+        relay.corrupt, relay.drop = 0.01, 0.005        # RCL loaded: now the move's line
         m.evaluate(LEGS)
         got = counts(m)
         assert relay.stats["corrupted"] > 10 and relay.stats["dropped"] > 5
