@@ -42,6 +42,11 @@ FIRST_COMMAND = "RERB 2 MPH 3.4 FEET FORWARD"
 LEGS = "RERB 6 INCHES FORWARD 90 DEGREES LEFT 6 INCHES FORWARD"
 PER_MOVE = 2                     # counts: see the module's docstring
 REST = "300 MS"                  # the braked wheels at rest (6 braking constants)
+# The watchdog's 250 ms in board time, as the native board can show them:
+# its time moves in 1 ms steps, up to 2 at once after the process was kept
+# waiting (it never catches up more), and the watchdog is looked at after
+# the steps: 250 ms and 3 ms, still within the 26th tick.
+WATCHDOG_BOARD_US = 253_000
 
 
 def counts(m):
@@ -166,7 +171,7 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdo
         assert silence["value"] >= 250_000              # never before 250 ms of silence
         # ... and within 25 ticks of board time: here far fewer, as the
         # board waited for the host's answer to its last tick
-        assert trip["value"] <= 251_000
+        assert trip["value"] <= WATCHDOG_BOARD_US
         stop = [n for n in b.events("motor") if n["us"] == trip["us"]]
         assert stop and stop[-1]["value"] == 0          # relays open at that moment
         assert 0 < trip["left"] < 1193 * 2 // 3.5       # it was cut mid-move
@@ -272,12 +277,13 @@ def test_the_watchdog_opens_the_relays_25_ticks_after_the_last_frame(raw):
     raw.frame(0, "HELLO", version=1)
     raw.receive("IDENTIFY")
     assert raw.answer(1, "OUT8", port=0x88, value=0x35).name == "ACK"
+    assert raw.board.wait_for(lambda: raw.board.events("motor"))   # (its note is read apart)
     last = raw.board.events("motor")[-1]                 # the board's time of that frame
     assert raw.board.wait_for(lambda: raw.board.events("watchdog"))
     trip, silence = raw.board.events("watchdog")[-1], raw.board.events("silence")[-1]
     assert silence["value"] >= 250_000                   # not before 250 ms of silence
-    assert trip["value"] <= 251_000                      # board time: 25 ticks, within a step
-    assert trip["us"] - last["us"] <= 251_000
+    assert trip["value"] <= WATCHDOG_BOARD_US            # board time: 25 ticks and a bit
+    assert trip["us"] - last["us"] <= WATCHDOG_BOARD_US
     assert [n for n in raw.board.events("motor") if n["us"] == trip["us"] and n["value"] == 0]
 
 
