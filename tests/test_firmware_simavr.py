@@ -385,3 +385,35 @@ def test_an_uno_image_of_another_protocol_version_is_refused_naming_both(simavr)
     with pytest.raises(LinkError) as e:
         connect(sim.path)
     assert "protocol version 2" in str(e.value) and "version 1" in str(e.value)
+
+
+def slow_host(m, seconds):
+    """Make rcl answer every tick `seconds` late, as a loaded machine does."""
+    run_tick = m.board.run_tick
+
+    def late(machine, event):
+        time.sleep(seconds)
+        return run_tick(machine, event)
+    m.board.run_tick = late
+
+
+def test_a_host_late_with_every_tick_is_waited_for_and_drives_as_the_simulated_board(uno, host):
+    sim = uno()
+    m = host(sim.path)
+    slow_host(m, 0.025)                         # 2.5 ticks late, every tick
+    m.evaluate("RERB 6 INCHES FORWARD")
+    got = counts(m)
+    figures = sim.figures()
+    assert m.board.skipped == 0                 # never 25 ticks behind
+    assert figures["holds"] > 50                # the board waited for it, tick after tick
+    assert within(true_counts(figures), simulated("RERB 6 INCHES FORWARD"), PER_MOVE)
+    assert within(got, true_counts(figures), 1)
+
+
+def test_a_free_running_board_leaves_a_late_host_behind(uno, host):
+    sim = uno("--free-running")
+    m = host(sim.path)
+    slow_host(m, 0.025)
+    with pytest.raises(rcl.ForthError):         # the move runs away from its control
+        m.evaluate("RERB 6 INCHES FORWARD")
+    assert m.board.skipped > 0 and sim.figures()["holds"] == 0

@@ -8,6 +8,7 @@
 #include <pty.h>
 #include <string.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "avr_uart.h"
@@ -35,6 +36,14 @@ static avr_cycle_count_t send_next(avr_t *avr, avr_cycle_count_t when,
     return b->count ? when + b->byte_cycles : 0;
 }
 
+static double wall_now(void)
+{
+    struct timespec t;
+
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + t.tv_nsec * 1e-9;
+}
+
 /* A byte the firmware wrote to UDR0: simavr raises this as the byte
  * starts on the wire, paced by its own UDRE timing. */
 static void board_sent(avr_irq_t *irq, uint32_t value, void *param)
@@ -47,6 +56,7 @@ static void board_sent(avr_irq_t *irq, uint32_t value, void *param)
         return;
     }
     b->from_board++;
+    b->last_sent_wall = wall_now();
     if (b->on_byte)
         b->on_byte(b->on_byte_ctx, (uint8_t)value, 0, b->avr->cycle);
     if (b->out_len < sizeof b->out)
@@ -86,6 +96,7 @@ int bridge_open(bridge *b, avr_t *avr, long baud)
 
     memset(b, 0, sizeof *b);
     b->avr = avr;
+    b->last_sent_wall = wall_now();
     /* 10 bits a byte: start, 8 data, stop */
     b->byte_cycles = (avr_cycle_count_t)((10.0 * avr->frequency) / baud + 0.5);
     memset(&raw, 0, sizeof raw);

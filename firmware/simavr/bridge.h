@@ -35,6 +35,7 @@ typedef struct bridge {
     uint8_t out[4096];              /* board -> host, not yet written */
     size_t out_len;
     unsigned long to_board, from_board, dropped_in, dropped_out, lost_to_cut;
+    double last_sent_wall;          /* wall time the board last sent a byte */
     bridge_byte_fn on_byte;         /* every byte each way, for the stats */
     void *on_byte_ctx;
 } bridge;

@@ -81,8 +81,32 @@ static void on_tick(link_watch *w, const uint8_t *payload,
     w->have_tick = 1;
     w->last_tick = tick;
     w->last_tick_at = at;
+    w->tick_at[tick & 63] = at;
     w->ticks++;
     w->bytes_in[0] = w->bytes_in[1] = 0;
+}
+
+/* Which host frame still waits for the board's answer (section 3): the
+ * board must be let run until it has answered. PING and WAIT get none. */
+static void track_answers(link_watch *w, int from_board, uint8_t seq,
+                          uint8_t type, uint8_t first)
+{
+    if (!from_board) {
+        if (type != 0x0C && type != 0x0F) {
+            w->awaiting = 1;
+            w->awaiting_seq = seq;
+            w->awaiting_type = type;
+        }
+        return;
+    }
+    if (!w->awaiting)
+        return;
+    if (w->awaiting_type == 0x01)             /* HELLO: IDENTIFY */
+        w->awaiting = type != 0x81;
+    else if (w->awaiting_type == 0x0D)        /* NAK: the frame sent again */
+        w->awaiting = 0;
+    else if (type == 0x82 || type == 0x83 || type == 0x86 || type == 0x87)
+        w->awaiting = first != w->awaiting_seq;
 }
 
 /* Section 1's receiver: a good frame is acted on (counted); a bad one
@@ -117,6 +141,13 @@ static void scan(link_watch *w, frame_rx *rx)
         rx->by_type[rx->buf[3]]++;
         if (rx->from_board && rx->buf[3] == FRAME_TICK && len >= 4)
             on_tick(w, rx->buf + 4, rx->when[0]);
+        if (!rx->from_board && rx->buf[3] == FRAME_TICK_DONE && len >= 5 &&
+            rx->buf[6] == 1) {
+            w->answered = (uint16_t)(rx->buf[4] | rx->buf[5] << 8);
+            w->have_answer = 1;
+        }
+        track_answers(w, rx->from_board, rx->buf[2], rx->buf[3],
+                      len ? rx->buf[4] : 0);
         drop(rx, len + 6);
     }
 }
@@ -138,6 +169,19 @@ void link_watch_byte(link_watch *w, uint8_t byte, int to_board,
     rx->when[rx->n] = when;
     rx->n++;
     scan(w, rx);
+}
+
+avr_cycle_count_t link_watch_host_due(const link_watch *w,
+                                      avr_cycle_count_t slack)
+{
+    uint16_t owed = (uint16_t)(w->answered + 1);
+
+    if (!w->have_tick || !w->have_answer || w->answered == w->last_tick ||
+        w->awaiting)
+        return 0;
+    if ((uint16_t)(w->last_tick - owed) >= 64)    /* far behind: its times are gone */
+        return 1;
+    return w->tick_at[owed & 63] + slack;
 }
 
 static void acc_json(FILE *f, const char *name, const acc *a)
@@ -163,6 +207,8 @@ static void types_json(FILE *f, const frame_rx *rx)
 
 void link_watch_json(const link_watch *w, FILE *f)
 {
+    fprintf(f, "\"last_tick\": %u, \"answered_tick\": %u, ",
+            w->last_tick, w->answered);
     fprintf(f, "\"tick_frames\": %lu, \"ticks_missed\": %lu, "
                "\"last_host_frame_s\": %.6f, ",
             w->ticks, w->missed, (double)w->last_host_frame / w->hz);

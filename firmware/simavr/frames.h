@@ -18,6 +18,7 @@
 #define FRAME_MAX (FRAME_MAX_PAYLOAD + 6)
 #define FRAME_SYNC 0xA5
 #define FRAME_TICK 0x84
+#define FRAME_TICK_DONE 0x09
 
 /* Running figures of one quantity. */
 typedef struct acc {
@@ -46,6 +47,11 @@ typedef struct link_watch {
     avr_cycle_count_t last_tick_at;
     unsigned long ticks, missed;
     avr_cycle_count_t last_host_frame; /* end of the last good host frame */
+    int have_answer;
+    uint16_t answered;                /* the last tick whose final TICK_DONE came */
+    avr_cycle_count_t tick_at[64];    /* when each of the last 64 TICKs was first sent */
+    int awaiting;                     /* a host frame the board has not answered yet */
+    uint8_t awaiting_seq, awaiting_type;
     acc period_us;                    /* one TICK to the next */
     unsigned long bytes_in[2];        /* [to_board, from_board] since last TICK */
     acc per_tick[2];
@@ -56,6 +62,12 @@ void link_watch_init(link_watch *w, double hz);
 /* A byte on the wire, to the board or from it, at cycle `when`. */
 void link_watch_byte(link_watch *w, uint8_t byte, int to_board,
                      avr_cycle_count_t when);
+
+/* The host has answered ticks (a final TICK_DONE came), owes a later
+ * TICK its answer, and is not waiting for an answer of the board's: ->
+ * the cycle `slack` after the first TICK it owes; 0 when none. */
+avr_cycle_count_t link_watch_host_due(const link_watch *w,
+                                      avr_cycle_count_t slack);
 
 /* The figures as JSON members (no braces), for the stats object. */
 void link_watch_json(const link_watch *w, FILE *f);

@@ -8,7 +8,10 @@
  * real time (times --rate) and never runs ahead of it: a harness that
  * falls behind (the machine stalls) does not race to catch up, it
  * re-bases, so the board never sees time pass that the host had no
- * chance to answer in.
+ * chance to answer in. Nor does it run on while a host that is running
+ * the ticks owes a TICK its answer for more than 8 ms (a loaded
+ * machine), as long as the board is not kept silent for 100 ms
+ * (--free-running: it never waits).
  *
  * Lines on stdin: "hold arm|jaw", "release arm|jaw", "cut" and "mend"
  * (the serial line: bytes lost both ways while cut), "stats" (one JSON
@@ -41,6 +44,9 @@
 #define BAUD 115200
 #define SLICE_US 250          /* input is looked at least this often */
 #define MAX_LAG_US 20000      /* further behind than this: re-base */
+#define HOST_SLACK_US 8000    /* a host answers a TICK within this, or is held for */
+#define HOLD_MAX_S 0.1        /* the longest the board is kept silent by a hold:
+                                 well inside the host's 250 ms "no frame" limit */
 
 typedef struct options {
     const char *elf;
@@ -48,6 +54,7 @@ typedef struct options {
     double rate;
     int hold[LIMIT_COUNT];
     int quiet;
+    int free_running;
 } options;
 
 typedef struct harness {
@@ -63,6 +70,11 @@ typedef struct harness {
     unsigned long rebases, resets;
     unsigned long reports;            /* stats files written, for a reader to wait on */
     double lag_max_us;                /* deepest fall behind before a re-base */
+    int holding;                      /* board time held for the host's answer */
+    double hold_start, held_s;
+    unsigned long holds;
+    int host_away;                    /* gave up waiting; until it answers again */
+    uint16_t away_answer;             /* its last answer when it went away */
     char line[256];                   /* stdin command being read */
     size_t line_len;
     int stdin_open;
@@ -115,6 +127,7 @@ static void stats_json(FILE *f)
                "\"resets\": %lu, ",
             H.reports, sim_s, now_s() - H.start_wall, H.opt.rate, H.rebases,
             H.lag_max_us, H.resets);
+    fprintf(f, "\"holds\": %lu, \"held_s\": %.3f, ", H.holds, H.held_s);
     fprintf(f, "\"edges\": [%.0f, %.0f], \"pin_edges\": [%ld, %ld], "
                "\"drive\": [%.4f, %.4f], \"limits_held\": [%d, %d], ",
             motor_edges(&ws->w[WHEEL_LEFT].m), motor_edges(&ws->w[WHEEL_RIGHT].m),
@@ -206,25 +219,86 @@ static void read_commands(void)
 }
 
 /* ------------------------------------------------------------ pacing */
+static void rebase(double t)
+{
+    H.base_wall = t;
+    H.base_cycle = H.avr->cycle;
+}
+
+/* The cycle at which the host, running the ticks, has had HOST_SLACK_US
+ * to answer the last TICK and nothing of its is on the wire: board time
+ * waits there for it (0: no wait). A host that answers in time, as on an
+ * idle machine, is never waited for; a loaded one gets the board a real
+ * board would be to an unloaded host, instead of one that runs on and
+ * makes it skip ticks. --free-running: never wait. */
+static avr_cycle_count_t host_due(void)
+{
+    avr_cycle_count_t slack = (avr_cycle_count_t)H.avr->frequency / 1000000 * HOST_SLACK_US;
+    avr_cycle_count_t due;
+
+    if (H.host_away && H.lw.answered != H.away_answer)
+        H.host_away = 0;              /* it answered again: it runs the ticks */
+    if (H.opt.free_running || H.br.count || H.host_away)
+        return 0;
+    due = link_watch_host_due(&H.lw, slack);
+    return due;
+}
+
+/* Hold board time at `due` while the host owes its answer, but never so
+ * long that the board has sent nothing for HOLD_MAX_S of wall time: a
+ * held board sends no HEARTBEAT either, and a host catching up through
+ * its backlog of TICKs must hear from the board again before its 250 ms
+ * "no frame" limit. A host that makes a hold end that way is away (at
+ * the prompt, or cut off): no more holds until it answers a tick again.
+ * -> 1 while holding. */
+static int hold_for_host(avr_cycle_count_t due, double t)
+{
+    int owed = due && H.avr->cycle >= due;
+
+    if (owed && t - H.br.last_sent_wall > HOLD_MAX_S) {
+        H.host_away = 1;
+        H.away_answer = H.lw.answered;
+        owed = 0;
+    }
+    if (owed && !H.holding) {
+        H.holding = 1;
+        H.holds++;
+        H.hold_start = t;
+    }
+    if (H.holding && !owed) {
+        H.holding = 0;
+        H.held_s += t - H.hold_start;
+        rebase(t);                    /* on from here: the held time is not caught up */
+        return 0;
+    }
+    if (H.holding)
+        rebase(t);
+    return H.holding;
+}
+
 /* The cycle simulated time may reach now: never ahead of the wall clock
  * (times rate). Further behind than MAX_LAG_US means the harness was
  * not running (a stall): start counting again from here instead of
  * racing through the lost time with nobody able to answer. */
-static avr_cycle_count_t allowed_cycle(void)
+static avr_cycle_count_t allowed_cycle(avr_cycle_count_t due)
 {
     double t = now_s();
     double hz = H.avr->frequency * H.opt.rate;
-    double target = H.base_cycle + (t - H.base_wall) * hz;
-    double lag_us = (target - (double)H.avr->cycle) / hz * 1e6;
+    double target, lag_us;
 
+    if (hold_for_host(due, t))
+        return H.avr->cycle;
+    target = H.base_cycle + (t - H.base_wall) * hz;
+    lag_us = (target - (double)H.avr->cycle) / hz * 1e6;
     if (lag_us > MAX_LAG_US) {
         H.rebases++;
         if (lag_us > H.lag_max_us)
             H.lag_max_us = lag_us;
-        H.base_wall = t;
-        H.base_cycle = H.avr->cycle;
+        rebase(t);
         return H.avr->cycle;
     }
+    if (due && due > H.avr->cycle && target > due)
+        target = due;                 /* stop where the host is owed */
     return target > 0 ? (avr_cycle_count_t)target : 0;
 }
 
@@ -245,11 +319,11 @@ static void wait_for_time(avr_cycle_count_t ahead)
 static int run_slice(void)
 {
     avr_cycle_count_t slice = (avr_cycle_count_t)H.avr->frequency / 1000000 * SLICE_US;
-    avr_cycle_count_t allowed = allowed_cycle();
+    avr_cycle_count_t allowed = allowed_cycle(host_due());
     avr_cycle_count_t limit;
 
     if (H.avr->cycle >= allowed) {
-        wait_for_time(H.avr->cycle + slice - allowed);
+        wait_for_time(H.holding ? slice : H.avr->cycle + slice - allowed);
         return cpu_Running;
     }
     limit = allowed < H.avr->cycle + slice ? allowed : H.avr->cycle + slice;
@@ -282,10 +356,11 @@ static void on_reset(avr_t *avr)
 static void usage(void)
 {
     fprintf(stderr,
-        "usage: rcl-simavr [--rate R] [--hold arm|jaw]... [--stats FILE] [--quiet] firmware.elf\n"
+        "usage: rcl-simavr [--rate R] [--hold arm|jaw]... [--stats FILE] [--free-running] [--quiet] firmware.elf\n"
         "  --rate R      simulated seconds per real second (default 1)\n"
         "  --hold SW     start with the arm or jaw limit switch held (pin low)\n"
-        "  --stats FILE  JSON figures at exit, on SIGUSR1 and on \"stats\"\n");
+        "  --stats FILE  JSON figures at exit, on SIGUSR1 and on \"stats\"\n"
+        "  --free-running  never wait for a host late with a TICK's answer\n");
     exit(2);
 }
 
@@ -305,6 +380,8 @@ static void parse_options(int argc, char **argv, options *o)
             o->hold[which] = 1;
         } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
             o->stats_path = argv[++i];
+        } else if (strcmp(a, "--free-running") == 0) {
+            o->free_running = 1;
         } else if (strcmp(a, "--quiet") == 0) {
             o->quiet = 1;
         } else if (a[0] == '-' || o->elf) {
