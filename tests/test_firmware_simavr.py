@@ -406,7 +406,10 @@ def test_a_host_late_with_every_tick_is_waited_for_and_drives_as_the_simulated_b
     figures = sim.figures()
     assert m.board.skipped == 0                 # never 25 ticks behind
     assert figures["holds"] > 50                # the board waited for it, tick after tick
-    assert within(true_counts(figures), simulated("RERB 6 INCHES FORWARD"), PER_MOVE)
+    # The board runs on 8 ms past the TICK the host owes before it waits,
+    # so the handler's writes may land 8 ms after their tick rather than
+    # 2-4: at RCL's end-of-move crawl (95 counts/s at most) under a count.
+    assert within(true_counts(figures), simulated("RERB 6 INCHES FORWARD"), PER_MOVE + 1)
     assert within(got, true_counts(figures), 1)
 
 
