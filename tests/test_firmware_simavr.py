@@ -327,24 +327,21 @@ def test_a_flood_of_garbage_both_ways_crashes_nothing_on_the_uno_image(uno, host
     assert figures["resets"] == 0 and sim.proc.poll() is None
 
 
-@pytest.mark.xfail(reason="the Uno's receiver computes a bitwise CRC for every SYNC and its "
-                          "main loop takes input until none is left: a SYNC-rich flood at "
-                          "115200 silences the board for 277 ms (firmware/simavr/"
-                          "NOTES-for-firmware.md)")
 def test_a_flood_of_sync_bytes_does_not_silence_the_uno_images_tick(uno, host):
     sim = uno()
     with FaultRelay(sim.path, seed=3) as relay:
         m = host(relay.path)
         m.evaluate("10 MS")
-        relay.flood(flood_of(3000, 3, sync_rich=True))
+        relay.flood(flood_of(3000, 3, sync_rich=True))  # a candidate frame every 4 bytes
         m.evaluate("50 MS")                     # board ticks: after the flood has drained
         m.evaluate("50 MS")
+        assert not m.board.lost
     figures = sim.figures()
-    assert figures["frames_to_board"]["bad"] > 500      # it all reached the AVR
+    assert figures["bytes_to_board"] > 3000 and figures["frames_to_board"]["bad"] > 100
     # A board sends something at least every 50 ms (HEARTBEAT); the TICK
     # that was due may wait for a frame already on the wire (6 ms).
     assert figures["tick_period_us"]["max"] <= 50_000 + 6000
-    assert not m.board.lost and figures["resets"] == 0
+    assert figures["resets"] == 0
 
 
 def test_a_cut_link_stops_the_uno_images_move_by_its_250_ms_watchdog(uno, host):
