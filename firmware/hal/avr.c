@@ -23,7 +23,7 @@
 #define SET(port, bit) ((port) |= (uint8_t)(1u << (bit)))
 #define CLR(port, bit) ((port) &= (uint8_t) ~(1u << (bit)))
 #define RX_SIZE 128                 /* a RUN frame is 70 bytes */
-#define TX_SIZE 128
+#define TX_SIZE 64                  /* a TICK and an answer; more waits */
 
 static volatile uint8_t rx_buf[RX_SIZE], tx_buf[TX_SIZE];
 static volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;

@@ -18,6 +18,7 @@
 #define WINDOW 16
 #define SAVED_MAX 26                /* TICK with 16 script reads: 6 + 4 + 16 */
 
+#define INPUT_PER_PASS 16            /* bytes taken between two looks at the timers */
 #define HEARTBEAT_US 50000UL
 #define HOLD_HEARTBEAT_US 10000UL   /* native board waiting for the host (hal.h) */
 #define WATCHDOG_US 250000UL

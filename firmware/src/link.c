@@ -19,8 +19,8 @@ typedef struct saved_frame {
 } saved_frame;
 
 static struct {
-    uint8_t rx[FRAME_MAX];
-    uint8_t rx_n;
+    uint8_t rx_buf[2 * FRAME_MAX]; /* the bytes held are rx_buf[rx_at, rx_at + rx_n) */
+    uint8_t rx_at, rx_n;
     uint8_t expected;               /* the host's next SEQ */
     uint8_t send_seq;               /* the board's next SEQ */
     saved_frame window[WINDOW];     /* by SEQ mod WINDOW, for NAK */
@@ -260,8 +260,12 @@ static uint8_t known_type(uint8_t t)
 
 static void drop(uint8_t n)
 {
-    memmove(k.rx, k.rx + n, (size_t)(k.rx_n - n));
+    /* O(1): garbage drops a byte at a time, and a shift of the whole
+     * buffer each time would outrun the Uno in a flood */
+    k.rx_at = (uint8_t)(k.rx_at + n);
     k.rx_n = (uint8_t)(k.rx_n - n);
+    if (k.rx_n == 0)
+        k.rx_at = 0;
 }
 
 /* Section 1's receiver over the bytes held: a bad frame loses only its
@@ -269,38 +273,42 @@ static void drop(uint8_t n)
 static void scan(void)
 {
     for (;;) {
+        const uint8_t *rx;
         uint8_t i = 0, need;
         uint16_t crc;
 
-        while (i < k.rx_n && k.rx[i] != SYNC)
+        while (i < k.rx_n && k.rx_buf[k.rx_at + i] != SYNC)
             i++;
         drop(i);
+        rx = k.rx_buf + k.rx_at;
         if (k.rx_n < 2)
             return;
-        if (k.rx[1] > MAX_PAYLOAD) {
+        if (rx[1] > MAX_PAYLOAD) {
             drop(1);
             continue;
         }
-        need = (uint8_t)(k.rx[1] + 6);
+        need = (uint8_t)(rx[1] + 6);
         if (k.rx_n < need)
             return;
-        crc = (uint16_t)(k.rx[need - 2] << 8 | k.rx[need - 1]);
+        crc = (uint16_t)(rx[need - 2] << 8 | rx[need - 1]);
         /* the type first: garbage rarely has a known one, and the CRC of a
          * 70-byte candidate is the receiver's only real cost */
-        if (!known_type(k.rx[3]) || crc != crc16(k.rx + 1, (size_t)need - 3)) {
+        if (!known_type(rx[3]) || crc != crc16(rx + 1, (size_t)need - 3)) {
             drop(1);
             continue;
         }
-        frame(k.rx[2], k.rx[3], k.rx + 4, k.rx[1]);
+        frame(rx[2], rx[3], rx + 4, rx[1]);
         drop(need);
     }
 }
 
 void link_rx(uint8_t byte)
 {
-    if (k.rx_n == FRAME_MAX)
-        drop(1);                    /* cannot happen: scan leaves less */
-    k.rx[k.rx_n++] = byte;
+    if (k.rx_at + k.rx_n == sizeof k.rx_buf) {      /* at the end: back to the start */
+        memmove(k.rx_buf, k.rx_buf + k.rx_at, k.rx_n);
+        k.rx_at = 0;
+    }
+    k.rx_buf[k.rx_at + k.rx_n++] = byte;    /* scan leaves under FRAME_MAX held */
     scan();
 }
 
