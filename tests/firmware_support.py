@@ -117,7 +117,8 @@ class BoardProcess:
         self.proc = None
 
     def __enter__(self):
-        self.proc = subprocess.Popen(self.argv, stdout=subprocess.PIPE, text=True, bufsize=1)
+        self.proc = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     text=True, bufsize=1)   # never the terminal's input
         ready, _, _ = select.select([self.proc.stdout], [], [], self.startup)
         if not ready:
             self.close()
