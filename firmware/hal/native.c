@@ -14,9 +14,9 @@
  * HOLD_MAX_US of wall time, and not once the watchdog has tripped. A
  * host that keeps up (a round trip is about 1 ms) never meets the wait,
  * and the board runs free as firmware on a microcontroller does; a host
- * stalled by a busy machine finds the board where it left it. The
- * link's own timers (HEARTBEAT, the watchdog) keep to the wall clock, as
- * the host's do. */
+ * stalled by a busy machine finds the board where it left it, its
+ * watchdog (board time) not tripped by the wait. HEARTBEATs keep to the
+ * wall clock, as the host's silence rule does. */
 #define _GNU_SOURCE                 /* ppoll */
 #include "../src/hal.h"
 #include "../model/motor.h"
@@ -46,6 +46,7 @@ static struct {
     uint32_t period_us, tick_left_us;
     uint32_t tick_total;
     int waiting;                    /* a TICK sent, its final TICK_DONE not come */
+    int host_gone;                  /* a wait ran out, or the watchdog tripped */
     uint16_t waiting_tick;
     double waiting_since;           /* wall us */
     unsigned long holds;            /* steps a tick waited for the host */
@@ -126,7 +127,8 @@ static int held(double wall)
     if (!n.waiting || !n.period_us || n.tick_left_us > STEP_US)
         return 0;
     if (wall - n.waiting_since > HOLD_MAX_US) {
-        n.waiting = 0;              /* the host has gone: run free */
+        n.waiting = 0;              /* the host has gone: run free until it answers */
+        n.host_gone = 1;
         return 0;
     }
     n.holds++;
@@ -299,15 +301,19 @@ void hal_led(uint8_t on)
 
 static int pacing_note(uint8_t event, uint32_t value)
 {
-    if (event == NOTE_TICK_SENT) {
+    if (event == NOTE_TICK_SENT && !n.host_gone) {
         n.waiting = 1;
         n.waiting_tick = (uint16_t)value;
         n.waiting_since = wall_us();
     } else if (event == NOTE_TICK_DONE) {
+        n.host_gone = 0;            /* the host is here again */
         if ((uint16_t)value == n.waiting_tick)
             n.waiting = 0;
-    } else if (event == NOTE_HELLO || event == NOTE_WATCHDOG) {
-        n.waiting = 0;              /* a new host, or none: nothing to wait for */
+    } else if (event == NOTE_HELLO) {
+        n.waiting = n.host_gone = 0;        /* a new host: nothing owed */
+    } else if (event == NOTE_WATCHDOG) {
+        n.waiting = 0;              /* nobody to wait for */
+        n.host_gone = 1;
     }
     return event == NOTE_TICK_SENT || event == NOTE_TICK_DONE;
 }

@@ -12,9 +12,10 @@ int hal_getc(void);                 /* next received byte, -1 if none */
 void hal_putc(uint8_t byte);        /* waits while the send buffer is full */
 
 uint32_t hal_micros(void);          /* board time in us, wraps at 2^32 */
-/* the clock of the link's timers (HEARTBEAT, watchdog): board time on
- * a microcontroller; the wall clock on the native board, whose board
- * time may wait for the host or run faster than real time */
+/* the clock of HEARTBEAT, which the host's 250 ms silence rule reads:
+ * board time on a microcontroller; the wall clock on the native board,
+ * whose board time may wait for the host or run faster than real time
+ * (the watchdog keeps to board time everywhere) */
 uint32_t hal_link_micros(void);
 uint8_t hal_take_ms(void);          /* 1 ms speed-loop periods since last call */
 uint8_t hal_take_ticks(void);       /* tick timer expiries since last call */
