@@ -45,7 +45,9 @@ REST = "300 MS"                  # the braked wheels at rest (6 braking constant
 # The watchdog's 250 ms in board time, as the native board can show them:
 # its time moves in 1 ms steps, up to 2 at once after the process was kept
 # waiting (it never catches up more), and the watchdog is looked at after
-# the steps: 250 ms and 3 ms, still within the 26th tick.
+# the steps: 250 ms and 3 ms, still within the 26th tick. On the wall
+# clock (the "silence" note) the trip comes no earlier than 250 ms less
+# the one step board time may lag it by.
 WATCHDOG_BOARD_US = 253_000
 
 
@@ -168,7 +170,7 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdo
         assert e.value.screen() == " Link lost "
         assert b.wait_for(lambda: b.events("watchdog"))
         trip, silence = b.events("watchdog")[0], b.events("silence")[0]
-        assert silence["value"] >= 250_000              # never before 250 ms of silence
+        assert silence["value"] >= 249_000              # never before 250 ms, within a step
         # ... and within 25 ticks of board time: here far fewer, as the
         # board waited for the host's answer to its last tick
         assert trip["value"] <= WATCHDOG_BOARD_US
@@ -284,7 +286,7 @@ def test_the_watchdog_opens_the_relays_25_ticks_after_the_last_frame(raw):
     last = raw.board.events("motor")[-1]                 # the board's time of that frame
     assert raw.board.wait_for(lambda: raw.board.events("watchdog"))
     trip, silence = raw.board.events("watchdog")[-1], raw.board.events("silence")[-1]
-    assert silence["value"] >= 250_000                   # not before 250 ms of silence
+    assert silence["value"] >= 249_000                   # not before 250 ms, within a step
     assert trip["value"] <= WATCHDOG_BOARD_US            # board time: 25 ticks and a bit
     assert trip["us"] - last["us"] <= WATCHDOG_BOARD_US
     assert [n for n in raw.board.events("motor") if n["us"] == trip["us"] and n["value"] == 0]
