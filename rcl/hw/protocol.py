@@ -32,7 +32,7 @@ RETRY_MS = 10               # host: resend a request not answered this long
 # all off (both wheels braked and disabled), and on the AUX latch the arm,
 # gripper and beeper bits cleared, the other AUX bits kept.
 SAFE_MOTOR_PORT, SAFE_MOTOR_VALUE = 0x88, 0x00
-SAFE_AUX_PORT, SAFE_AUX_CLEAR = 0x89, 0x07
+SAFE_AUX_PORT, SAFE_AUX_CLEAR = 0x89, 0x15    # ARM-ON GRIP-ON BEEPER
 
 
 class LinkError(RclError):

@@ -77,17 +77,27 @@ STATE = struct.Struct("<HHHHHH")    # prev fwd, prev rev, fwd total hi lo, rev t
 
 def read_position(m, wheel):
     """Latch and read one wheel's counters, add the pulses since the last
-    read to the 32-bit totals; -> forward minus reverse, as a 32-bit value."""
+    read to the 32-bit totals (fewer than 32,768 a read: 13 s at the top
+    speed, and the tick reads every 10 ms); -> forward minus reverse, as a
+    32-bit value."""
     r = m.board.port_script(COUNTER_READS[wheel])
     fwd, rev = r[0] | (r[1] << 8), r[2] | (r[3] << 8)
     a = state_addr(m) + 12 * wheel
     mem = m.memory
     prev_f, prev_r, fhi, flo, rhi, rlo = STATE.unpack(mem.read(a, 12))
-    total_f = (((fhi << 16) | flo) + ((prev_f - fwd) & MASK)) & 0xFFFFFFFF
-    total_r = (((rhi << 16) | rlo) + ((prev_r - rev) & MASK)) & 0xFFFFFFFF
+    total_f = (((fhi << 16) | flo) + counted(prev_f, fwd)) & 0xFFFFFFFF
+    total_r = (((rhi << 16) | rlo) + counted(prev_r, rev)) & 0xFFFFFFFF
     mem.write(a, STATE.pack(fwd, rev, total_f >> 16, total_f & MASK,
                             total_r >> 16, total_r & MASK))
     return (total_f - total_r) & 0xFFFFFFFF
+
+
+def counted(prev, now):
+    """Pulses a down-counter counted from prev to now, signed: over a link
+    to a free-running board a tick's script reads can reach the handler
+    after a later foreground read; such an older value takes those counts
+    back rather than adding 65536."""
+    return ((prev - now + 0x8000) & MASK) - 0x8000
 
 
 @prim("?CNT1", "( -- d ) motor 1 (left) position in encoder counts, + forward",

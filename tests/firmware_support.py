@@ -1,0 +1,296 @@
+"""Support for the firmware tests (tests/test_firmware_*.py): build the
+firmware once per test session, run a board program that prints its
+pseudo-terminal's path on its first line (the native build, or the simavr
+harness with the Uno image), connect rcl to it, and a fault relay for the
+link's fault cases.
+
+    build("native")                  -> firmware/build (make, once per session)
+    with BoardProcess([exe, ...]) as board:
+        m = connect(board.path)      # rcl.open(port=path)
+        board.notes                  # the native build's event lines, parsed
+    with FaultRelay(board.path, seed=1) as relay:
+        m = connect(relay.path)      # rcl talks to the relay's pty
+        relay.corrupt = 0.01; relay.drop = 0.01; relay.cut(); relay.mend()
+        relay.flood(b"...")          # garbage into the board's line
+
+Without the toolchain the tests skip and say what to install (or fail,
+with RCL_REQUIRE_FIRMWARE=1, as CI wants).
+"""
+import os
+import pathlib
+import random
+import re
+import select
+import shutil
+import subprocess
+import threading
+import time
+import tty
+
+import pytest
+
+import rcl
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+FIRMWARE = ROOT / "firmware"
+BUILD = FIRMWARE / "build"
+INSTALL = ("apt-get install --no-install-recommends "
+           "gcc-avr avr-libc binutils-avr libsimavr-dev")
+NATIVE_TOOLS = ("make", "cc")
+AVR_TOOLS = ("make", "avr-gcc", "avr-objcopy", "avr-size")
+
+_built = {}
+_lock = threading.Lock()
+
+
+def missing_tools(tools):
+    return [t for t in tools if shutil.which(t) is None]
+
+
+def require_tools(tools):
+    """Skip the test, saying what to install, when a tool is missing; a
+    failure instead where the firmware tests must run (CI sets
+    RCL_REQUIRE_FIRMWARE=1 after installing the toolchain)."""
+    gone = missing_tools(tools)
+    if gone:
+        why = "firmware toolchain missing (%s): %s" % (", ".join(gone), INSTALL)
+        if os.environ.get("RCL_REQUIRE_FIRMWARE") == "1":
+            pytest.fail(why)
+        pytest.skip(why)
+
+
+def build(*targets, **make_vars):
+    """`make -C firmware TARGETS VAR=value` once per session and set of
+    arguments; -> the build directory. A failed build fails the test with
+    make's output (a build error is a defect, not a skip)."""
+    need = NATIVE_TOOLS if set(targets) <= {"native"} else AVR_TOOLS + ("cc",)
+    require_tools(need)
+    key = (targets, tuple(sorted(make_vars.items())))
+    with _lock:
+        if key not in _built:
+            cmd = ["make", "-C", str(FIRMWARE), *targets,
+                   *("%s=%s" % kv for kv in sorted(make_vars.items()))]
+            done = subprocess.run(cmd, capture_output=True, text=True)
+            _built[key] = done
+        done = _built[key]
+    if done.returncode:
+        pytest.fail("firmware build failed:\n%s%s" % (done.stdout, done.stderr))
+    return BUILD
+
+
+def native_program(version=1):
+    """The native build's program (another protocol version: its own build)."""
+    if version == 1:
+        build("native")
+        return BUILD / "native"
+    build("native", VERSION=version)
+    return BUILD / ("native-v%d" % version)
+
+
+NOTE = re.compile(r"(\w+) (.*)")
+
+
+def parse_note(line):
+    """'motor us=138000 tick=7 value=53 left=0 right=0' -> a dict."""
+    m = NOTE.match(line.strip())
+    if not m:
+        return None
+    note = {"event": m.group(1)}
+    for field in m.group(2).split():
+        key, _, value = field.partition("=")
+        try:
+            note[key] = int(value)
+        except ValueError:
+            note[key] = value
+    return note
+
+
+class BoardProcess:
+    """A board program: its first stdout line is its pty's path; later
+    lines are event notes, kept (parsed) in `notes`."""
+
+    def __init__(self, argv, startup=10.0):
+        self.argv = [str(a) for a in argv]
+        self.startup = startup
+        self.notes = []
+        self.lines = []
+        self.proc = None
+
+    def __enter__(self):
+        self.proc = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     text=True, bufsize=1)   # never the terminal's input
+        ready, _, _ = select.select([self.proc.stdout], [], [], self.startup)
+        if not ready:
+            self.close()
+            pytest.fail("%s printed no pty path within %.0f s" % (self.argv[0], self.startup))
+        self.path = self.proc.stdout.readline().strip()
+        if not self.path.startswith("/dev/"):
+            self.close()
+            pytest.fail("%s printed %r, not a pty path" % (self.argv[0], self.path))
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+        return self
+
+    def _read(self):
+        for line in self.proc.stdout:
+            self.lines.append(line)
+            note = parse_note(line)
+            if note is not None:
+                self.notes.append(note)
+
+    def events(self, name):
+        return [n for n in list(self.notes) if n["event"] == name]
+
+    def wait_for(self, condition, seconds=5.0):
+        """Wait (a bounded wall time, only so a broken board cannot hang the
+        run) until condition() is true; -> its last value."""
+        end = time.monotonic() + seconds
+        while not condition() and time.monotonic() < end:
+            time.sleep(0.01)
+        return condition()
+
+    def close(self):
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def connect(path):
+    """rcl on the board at `path` (RCL loaded, the link up)."""
+    return rcl.open(port=path)
+
+
+class FaultRelay:
+    """A pty pair between rcl and the board: bytes are copied both ways,
+    and can be corrupted (a random bit flipped), dropped (with a seeded
+    random choice per byte), cut off altogether, or joined by garbage."""
+
+    def __init__(self, board_path, seed=1, corrupt=0.0, drop=0.0):
+        self.board_path = board_path
+        self.random = random.Random(seed)
+        self.corrupt, self.drop = corrupt, drop
+        self.cutting = False
+        self.stats = {"to_board": 0, "to_host": 0, "corrupted": 0, "dropped": 0}
+        self.stopping = threading.Event()
+
+    def __enter__(self):
+        self.board = os.open(self.board_path, os.O_RDWR | os.O_NOCTTY)
+        tty.setraw(self.board)
+        self.master, slave = os.openpty()
+        tty.setraw(slave)
+        self.path = os.ttyname(slave)
+        self.slave = slave             # held open: the master never reads EIO between hosts
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+        return self
+
+    def cut(self):
+        """Silence both ways (bytes in flight are lost), as a pulled cable."""
+        self.cutting = True
+
+    def mend(self):
+        self.cutting = False
+
+    def flood(self, data, to_host=False):
+        """Garbage into the board's line (or the host's)."""
+        os.write(self.master if to_host else self.board, data)
+
+    def _garble(self, data):
+        out = bytearray()
+        for byte in data:
+            if self.drop and self.random.random() < self.drop:
+                self.stats["dropped"] += 1
+                continue
+            if self.corrupt and self.random.random() < self.corrupt:
+                byte ^= 1 << self.random.randrange(8)
+                self.stats["corrupted"] += 1
+            out.append(byte)
+        return bytes(out)
+
+    def _run(self):
+        ends = {self.master: (self.board, "to_board"), self.board: (self.master, "to_host")}
+        while not self.stopping.is_set():
+            ready, _, _ = select.select(list(ends), [], [], 0.05)
+            for fd in ready:
+                try:
+                    data = os.read(fd, 4096)
+                except OSError:
+                    continue
+                if not data or self.cutting:
+                    continue
+                other, count = ends[fd]
+                data = self._garble(data)
+                self.stats[count] += len(data)
+                try:
+                    os.write(other, data)
+                except OSError:
+                    pass
+
+    def close(self):
+        self.stopping.set()
+        self.thread.join(2)
+        for fd in (self.master, self.slave, self.board):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class RawLink:
+    """Frames straight to a board's pty, without rcl: for the protocol's
+    own rules (repeats, NAK, bad payloads, the watchdog's silence)."""
+
+    def __init__(self, path):
+        from rcl.hw import protocol
+        self.P = protocol
+        self.fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
+        tty.setraw(self.fd)
+        self.reader = protocol.FrameReader()
+        self.raw = bytearray()          # every byte received, for byte-for-byte checks
+
+    def send(self, data):
+        os.write(self.fd, data)
+
+    def frame(self, seq, name, /, **values):
+        data = self.P.frame(seq, name, **values)
+        self.send(data)
+        return data
+
+    def receive(self, want=None, seconds=2.0):
+        """Frames until one named `want` (or any, if None) comes; -> it, or
+        None after `seconds` (a bound for a broken board, not a measure)."""
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            ready, _, _ = select.select([self.fd], [], [], 0.05)
+            if not ready:
+                continue
+            data = os.read(self.fd, 4096)
+            self.raw += data
+            for f in self.reader.feed(data):
+                if want is None or f.name == want:
+                    return f
+        return None
+
+    def answer(self, seq, name, /, **values):
+        """Send a sequenced frame; -> its answer (ACK, VALUE, RESULTS or
+        REFUSED carrying `ack` = seq), skipping TICKs and HEARTBEATs."""
+        self.frame(seq, name, **values)
+        end = time.monotonic() + 2.0
+        while time.monotonic() < end:
+            f = self.receive()
+            if f is not None and "ack" in f.values and f["ack"] == seq:
+                return f
+        return None
+
+    def close(self):
+        os.close(self.fd)
