@@ -166,6 +166,37 @@ def test_the_python_of_a_word_can_be_printed_and_is_what_runs():
     assert "source(m" in compiler.__doc__
 
 
+def code_lines(text):
+    """Lines of Python without their comments, blank lines and elisions."""
+    out = []
+    for line in text.splitlines():
+        line = line.split("  #")[0].rstrip()
+        if line.strip() and line.strip() != "...":
+            out.append(line)
+    return out
+
+
+def in_order(wanted, lines):
+    it = iter(lines)
+    return all(any(w == line for line in it) for w in wanted)
+
+
+def test_the_compilers_walk_through_shows_the_python_that_source_prints():
+    from rcl.forth import compile_block
+    m = rcl.Forth()
+    m.evaluate(": COUNTDOWN  BEGIN 1- DUP 0= UNTIL ;  : SQ+1  DUP * 1+ ;")
+    doc = compiler.__doc__
+    example = doc[doc.index("    def f(m):"):doc.index("m.clock = clk\n") + len("m.clock = clk")]
+    shown = [line[4:] for line in code_lines(example)]
+    assert len(shown) > 20 and in_order(shown, code_lines(source(m, "COUNTDOWN")))
+    sq = code_lines(source(m, "SQ+1"))
+    doc = compile_block.__doc__
+    first = doc[doc.index(": SQ+1"):].splitlines()[:4]
+    col = first[0].index("t1 = ")                  # the Python column, beside the Forth
+    body = [line[col:].split(" #")[0].strip() for line in first]
+    assert len(body) == 4 and in_order(body, [line.strip() for line in sq])
+
+
 def test_a_short_stack_is_stack_underflow_both_ways():
     for compiled in (True, False):
         m = rcl.Forth()

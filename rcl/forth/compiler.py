@@ -18,31 +18,50 @@ few minutes with a machine at hand):
    by run_from, next to its code generator) or a call. What it prints:
 
     def f(m):
-        s = m.s; rs = m.rs                  # only the locals the code uses
-        b = 0
-        while True:
-            if b <= 0:   # 145A              # block 0: 1- DUP 0= ?BRANCH
-                if m.clock + 3000000 >= m.deadline:
-                    slow(m, SEQ0, 1000000)   # exact: one primitive at a time
-                    t1 = s.pop()
-                    if t1 == 0: b = 0; continue
-                else:
-                    m.clock += 4000000       # the whole block's cost at once
-                    t2 = s.pop()
-                    t3 = (t2 - 1) & 0xFFFF
-                    t4 = 0xFFFF if t3 == 0 else 0
-                    s.append(t3)
-                    if t4 == 0: b = 0; continue
-            if b <= 1:   # 1464              # block 1: EXIT
-                ...
-                return rs.pop()
+        s = m.s; rs = m.rs; clk = m.clock   # only the locals the code uses
+        try:
+            b = 0
+            while True:
+                if b <= 0:   # 1981          # block 0: 1- DUP 0= ?BRANCH
+                    if clk + 3000000 >= m.deadline:
+                        m.clock = clk; clk = -1
+                        slow(m, SEQ0, 1000000)   # exact: a primitive at a time
+                        clk = m.clock
+                        t1 = s.pop()
+                        if t1 == 0: b = 0; continue
+                    else:
+                        clk += 4000000       # the whole block's cost at once
+                        t2 = s.pop()
+                        t3 = (t2 - 1) & 0xFFFF
+                        t4 = 0xFFFF if t3 == 0 else 0
+                        s.append(t3)
+                        if t4 == 0: b = 0; continue
+                if b <= 1:   # 198B          # block 1: EXIT
+                    if clk + 0 >= m.deadline:
+                        ...                  # the slow path, as above
+                    else:
+                        clk += 1000000
+                        return rs.pop()
+                raise RuntimeError('compiled code ran past its last block')
+        finally:
+            if clk >= 0: m.clock = clk
 
-The clever part, explained once: inside a block the data stack is kept in
-Python locals (`vs`, a list of names or constants standing for the top
-cells); only at a block's end, or before anything that looks at the real
-stack, are they written back. Simple primitives are pasted from their
-inline templates (primitives.Template, parsed once at registration), and
-an output over constants is computed at compile time (`2 3 +` is `5`).
+   `Gen.build` cuts the code into blocks and writes the guards; `Gen.block`
+   writes each block's two ways (the slow path, then the fast one);
+   `terminator` its end. The fast path's primitives come from
+   compile_block.py (`op_simple`), the straight-line half of the compiler.
+
+The clock lives in `clk`, a local; before any Python that may read or move
+the clock, m.clock gets it back and `clk = -1` tells the `finally` that
+m.clock is now the truth (`clock_out`, `clock_in`).
+
+The clever part, explained once (compile_block.py has the details): inside
+a block the data stack is kept in Python locals (`vs`, a list of names or
+constants standing for the top cells); only at a block's end, or before
+anything that looks at the real stack, are they written back. Simple
+primitives are pasted from their inline templates (primitives.Template,
+parsed once at registration), and an output over constants is computed at
+compile time (`2 3 +` is `5`).
 
 Jumps: the guard `if b <= k` lets a block fall into the next one with one
 comparison. A forward jump only sets b and falls down through the guards
@@ -66,7 +85,7 @@ becomes a Python `while` with the index and the clock in locals
 
 Locals (rcl/words/localvars.py) use the same idea for the return stack: a
 frame's cells stay Python names (`rs_known`), the frame pushed only before
-something that may look at the return stack (`forget_rs`).
+something that may look at the return stack (`forget_rs`, compile_block.py).
 
 Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
@@ -74,12 +93,11 @@ the next call). A definition already running finishes in its old form.
 """
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
 from rcl.forth.primitives import HELPERS
+from rcl.forth.compile_block import WIDE_DPL, BlockGen  # noqa: F401 (WIDE_DPL: for core.py)
 from rcl.forth.compile_loops import LoopGen
 from rcl.forth.control import BY_NAME as CONTROL_OPS
-from rcl.forth.decode import (NO_TERMINATOR, TERMINATORS, call_depth,  # noqa: F401
-                              decode, keeps_rs, literal_template, rs_growth, rt_2con,
-                              rt_con, rt_enter, rt_exit, walk)   # (decode: for SEE)
-from rcl.forth.inner import COMPILED, N, RSTACK_CELLS, rt_push
+from rcl.forth.decode import NO_TERMINATOR, TERMINATORS, call_depth, decode, walk  # noqa: F401
+from rcl.forth.inner import COMPILED, N, RSTACK_CELLS                      # (decode: for SEE)
 
 DOCOL_N = N["(DOCOL)"]
 
@@ -105,27 +123,18 @@ def slow(m, seq, term_cost=None):
 # The locals a compiled function may bind, in order, and what they hold.
 PROLOGUE = (("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"), ("W", "m.watch"), ("d0", "len(rs)"))
 
-# An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
-WIDE_DPL = "wide"
 
-class Gen(LoopGen):
+class Gen(BlockGen, LoopGen):
     """Python source for one definition."""
 
     def __init__(self, m, entry):
+        BlockGen.__init__(self)
         self.m = m
         self.entry = entry
         self.lines = []
         self.consts = {}
         self.ntemp = 0
-        self.vs = []
-        self.dpl = None
         self.uses = set()
-        self.index_atom = None   # the temp holding I, while the loop frame stays put
-        self.rest = 0            # clock units clk holds beyond the primitive being emitted
-        self.rs_known = None     # atoms known to be the top return-stack cells (locals)
-        self.rs_pending = None   # a line pushing them, not yet emitted (see forget_rs)
-        self.open_calls = 0      # inlined calls entered and not left, in the fast path
-        self.rs_unknown = False  # Python code ran in this block: see call_check
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -142,155 +151,6 @@ class Gen(LoopGen):
         mem, W, d0), recorded so the prologue binds just those."""
         self.lines.append("    " * ind + line)
         self.uses.update(uses)
-
-    def take(self, n, ind):
-        """n input atoms, deepest first, loading from the real stack."""
-        if n == 0:
-            return []
-        have = self.vs[-n:] if n <= len(self.vs) else list(self.vs)
-        if have and have[0] == "_c":              # a loop's carried top of stack
-            self.carried_used = True
-        del self.vs[len(self.vs) - len(have):]
-        loaded = []
-        for _ in range(n - len(have)):
-            t = self.temp()
-            self.emit("%s = s.pop()" % t, ind, "s")
-            self.real_stack = True
-            loaded.insert(0, t)
-        return loaded + have
-
-    def flush_dpl(self, ind):
-        """An RCL literal's DPL (and WIDE-NUMBER) is stored only when a word
-        that may read them comes next."""
-        if self.dpl is not None:
-            wide = self.dpl == WIDE_DPL
-            for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
-                         (self.m.a_wide, MASK if wide else 0)):
-                self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
-            self.dpl = None
-
-    def flush(self, ind):
-        self.flush_dpl(ind)
-        if self.vs:
-            self.real_stack = True
-        if len(self.vs) == 1:
-            self.emit("s.append(%s)" % self.vs[0], ind, "s")
-        elif self.vs:
-            self.emit("s.extend((%s))" % ", ".join(self.vs), ind, "s")
-        self.vs = []
-
-    # --------------------------------------------------------- simple ops
-    def op_inline(self, p, ind, tpl=None):
-        """Paste p's parsed template (or tpl, one made from a literal's
-        inline cells): inputs taken as atoms, outputs kept as atoms; an
-        output over numbers only is computed now (folded)."""
-        tpl = tpl or p.template
-        if p.name == "I" and self.index_atom is not None:   # I again: the same value
-            self.vs.append(self.index_atom)
-            return
-        if self.in_loop and p.name == "I":       # the index is in locals (compile_loops.py)
-            t = self.temp()
-            self.emit("%s = (_i + _lim) & 0xFFFF" % t, ind)
-            self.vs.append(t)
-            self.index_atom = t
-            return
-        if "rs" in tpl.uses and p.name not in ("I", "J"):
-            self.index_atom = None               # the loop frame may have moved
-        if p.touches_memory:
-            self.flush_dpl(ind)
-        atoms = self.take(len(tpl.inputs), ind)
-        if tpl.stmt:
-            for line in tpl.stmt.fill(atoms).split("\n"):
-                self.emit(line, ind, *tpl.stmt.uses)
-        numbers = tpl.stmt is None and all(a.isdigit() for a in atoms)
-        for o in tpl.outputs:
-            if o.input is not None:
-                self.vs.append(atoms[o.input])
-            elif numbers and o.fold is not None:
-                self.vs.append(str(o.fold(*map(int, atoms))))
-            else:
-                t = self.temp()
-                self.emit("%s = %s" % (t, o.fill(atoms)), ind, *o.uses)
-                self.vs.append(t)
-        if p.name == "I":
-            self.index_atom = self.vs[-1]
-
-    def op_simple(self, ins, ind):
-        p, op = ins.prim, ins.op
-        # A word set may compile its own primitive (the Locals word set keeps
-        # a frame's cells in Python locals: rcl/words/localvars.py); -> True if done.
-        hook = p.extra.get("compile") if p is not None else None
-        if hook is not None and hook(self, ins.args, ind):
-            return
-        tpl = literal_template(ins)
-        if not keeps_rs(ins, tpl):
-            self.forget_rs(ind)
-        if rs_growth(ins) is None:
-            self.rs_unknown = True
-        if op == "enter":                          # an inlined call (decode.py): the
-            self.open_calls += 1                   # block's check saw the depth it needs,
-            if self.rs_unknown:                    # unless Python code ran before it
-                self.call_check(ind)
-        elif op == "exit":
-            self.open_calls -= 1
-        elif op == "literal":
-            lit = p.extra.get("lit")
-            if lit is not None:                    # numbers: pushed as constants
-                cells, dpl = lit(ins.args)
-                self.vs.extend(str(c) for c in cells)
-                if dpl is not None:
-                    self.dpl = dpl
-                return
-            if tpl is not None:                    # made from the inline cells
-                self.op_inline(p, ind, tpl)
-                return
-            self.flush(ind)
-            self.index_atom = None
-            self.clock_out(ind)
-            self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
-            self.clock_in(ind)
-        elif op == "var":
-            self.vs.append(str(ins.args[0]))
-        elif op == "const":                        # its cell is watched (decode.py)
-            self.vs.append(str(self.m.memory.fetch(ins.args[0])))
-        elif op in ("con", "2con"):
-            self.flush_dpl(ind)
-            a = ins.args[0]
-            cell = "(mem[%d] | (mem[%d] << 8))"
-            if op == "con":
-                t = self.temp()
-                self.emit("%s = %s" % (t, cell % (a, (a + 1) & MASK)), ind, "mem")
-                self.vs.append(t)
-            else:
-                lo, hi = self.temp(), self.temp()
-                self.emit("%s = %s" % (lo, cell % ((a + 2) & MASK, (a + 3) & MASK)), ind, "mem")
-                self.emit("%s = %s" % (hi, cell % (a, (a + 1) & MASK)), ind)
-                self.vs.extend((lo, hi))
-        elif p.template is not None:
-            self.op_inline(p, ind)
-        else:
-            self.flush(ind)
-            self.index_atom = None               # Python code may move the loop frame
-            self.clock_out(ind)
-            self.emit("%s(m)" % self.const(p.fn, "P"), ind)
-            self.clock_in(ind)
-
-    def slow_entry(self, ins):
-        """(cost, fn, args) for the slow path."""
-        p, op = ins.prim, ins.op
-        if op == "enter":
-            return (ins.cost, rt_enter, ins.args)
-        if op == "exit":
-            return (ins.cost, rt_exit, ())
-        if op == "literal":
-            return (ins.cost, p.fn, ins.args)
-        if op == "var":
-            return (ins.cost, rt_push, ins.args)
-        if op in ("con", "const"):
-            return (ins.cost, rt_con, ins.args)
-        if op == "2con":
-            return (ins.cost, rt_2con, ins.args)
-        return (ins.cost, p.fn, ())
 
     # --------------------------------------------------------- terminators
     def jump_text(self, addr, k):
@@ -322,43 +182,10 @@ class Gen(LoopGen):
         for line in rest:
             self.emit(line, ind)
 
-    def clock_out(self, ind):
-        """Before Python that may read or move the clock: m.clock is the
-        truth until clock_in (clk = -1 tells the function's finally so).
-        In the middle of a block, clk already holds the whole block's cost:
-        m.clock gets what the reference loop would show (`rest` is the cost
-        of the primitives after this one)."""
-        self.emit("m.clock = clk - %d; clk = -1" % self.rest if self.rest
-                  else "m.clock = clk; clk = -1", ind)
-
-    def clock_in(self, ind):
-        self.emit("clk = m.clock + %d" % self.rest if self.rest else "clk = m.clock", ind)
-
     def call_tail(self, ins, k, ind):
         ret = ins.next
         self.emit("if r != %d: return r" % ret, ind)
         self.goto_next(k, ret, ind)
-
-    def call_check(self, ind):
-        """An inlined call after Python code that may have moved the return
-        stack: overflow here if the real call would, counting what the fast
-        path never pushes (the open calls' return addresses, a frame kept
-        in Python names), with the data stack and clock the reference has."""
-        unseen = self.open_calls + (len(self.rs_known) if self.rs_pending else 0)
-        self.emit("if len(rs) > %d:" % (RSTACK_CELLS - unseen), ind, "rs")
-        vs, dpl = list(self.vs), self.dpl
-        self.flush(ind + 1)
-        self.vs, self.dpl = vs, dpl
-        self.clock_out(ind + 1)
-        self.emit("m.rs_overflow()", ind + 1)
-
-    def forget_rs(self, ind):
-        """Something may look at the return stack: lay down any cells kept
-        back (a locals frame whose reads all came from Python names so far)."""
-        if self.rs_pending:
-            self.emit(self.rs_pending, ind, "rs")
-            self.index_atom = None               # the frame is above the loop's now
-        self.rs_known = self.rs_pending = None
 
     def terminator(self, ins, k, ind):
         """The code that ends block k: a control operation (control.py) or
