@@ -16,6 +16,7 @@ import random
 import signal
 import struct
 import subprocess
+import sys
 import threading
 import time
 
@@ -255,6 +256,23 @@ def test_the_articles_first_command_on_the_uno_image_drives_as_the_simulated_boa
     assert within(true_counts(figures), simulated(FIRST_COMMAND), PER_MOVE)
     assert within(read, true_counts(figures), 1)        # the firmware saw every edge
     assert figures["resets"] == 0 and figures["frames_from_board"]["bad"] == 0
+
+
+def test_rcl_port_on_the_command_line_drives_the_uno_image_as_a_user_would(uno):
+    # What docs/firmware.md ends with: `rcl --port <device>` and the first
+    # command, here the console script's own process on the harness's pty.
+    sim = uno()
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    done = subprocess.run(
+        [sys.executable, "-m", "rcl", "--port", sim.path, "-e",
+         FIRST_COMMAND + "  300 MS ?CNT1 D. ?CNT2 D.  BYE"],
+        stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120, env=env)
+    assert done.returncode == 0 and "Traceback" not in done.stdout + done.stderr
+    read = [int(x) for x in done.stdout.split()[-2:]]
+    figures = sim.figures()
+    assert within(true_counts(figures), simulated(FIRST_COMMAND), PER_MOVE)
+    assert within(read, true_counts(figures), 1)
+    assert figures["drive"] == [0.0, 0.0]              # rcl left, the wheels stopped
 
 
 def test_listing_1_on_the_uno_image_drives_the_square_as_the_simulated_board(uno, host):
