@@ -67,6 +67,15 @@ def simulated(program=None, listing=None):
     return counts(m)
 
 
+def leg_after_reconnect(m):
+    """The link mended: RECONNECT finds it up and LEG, defined before the
+    cut, drives; -> the counts each wheel moved."""
+    assert m.evaluate("RECONNECT").startswith(" Link up")
+    before = counts(m)
+    m.evaluate("LEG")                               # the definition survived
+    return [a - b for a, b in zip(counts(m), before)]
+
+
 def within(a, b, tolerance):
     return all(abs(x - y) <= tolerance for x, y in zip(a, b))
 
@@ -181,17 +190,13 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdo
         assert before_trip[-1]["value"] & 0x30          # ... on a wheel running under GO
         assert trip["left"] < 682                       # short of the 2 feet: mid-move
         relay.mend()
-        assert m.evaluate("RECONNECT").startswith(" Link up")
-        before = counts(m)
-        m.evaluate("LEG")                               # the definition survived
-        after = counts(m)
+        leg = leg_after_reconnect(m)
     # 3 inches: 85 counts, as on the simulated board, within a move's 2
     # counts and 3 more: the move starts from the reference the cut left
     # in counter 0 (2 MPH) for the tick before the host's first write, and
     # the model's motor gains up to 3 counts in it that the simulation's
     # torque-limited (0.5 G) wheel does not
-    assert within([a - b_ for a, b_ in zip(after, before)], simulated("RERB 3 INCHES FORWARD"),
-                  PER_MOVE + 3)
+    assert within(leg, simulated("RERB 3 INCHES FORWARD"), PER_MOVE + 3)
 
 
 def test_a_board_of_another_protocol_version_is_refused_naming_both(board):

@@ -139,26 +139,26 @@ uint32_t hal_link_micros(void)
     return hal_micros();
 }
 
-uint8_t hal_take_ms(void)
+/* An ISR's event count, read and cleared with interrupts held off. */
+static uint8_t take(volatile uint8_t *count)
 {
     uint8_t n;
 
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        n = ms_new;
-        ms_new = 0;
+        n = *count;
+        *count = 0;
     }
     return n;
 }
 
+uint8_t hal_take_ms(void)
+{
+    return take(&ms_new);
+}
+
 uint8_t hal_take_ticks(void)
 {
-    uint8_t n;
-
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        n = ticks_new;
-        ticks_new = 0;
-    }
-    return n;
+    return take(&ticks_new);
 }
 
 void hal_tick_period(uint32_t us)
