@@ -1,6 +1,6 @@
 """Time the Forth benchmarks on rcl and on gforth, and check their checksums.
 
-    python3 bench/run.py [--only NAME] [--repeat K]
+    python3 bench/run.py [--only NAME] [--repeat K] [--acmeforth DIR]
 
 What is measured, for each bench/*.fs program (best time of K runs,
 default 3):
@@ -14,6 +14,10 @@ default 3):
 * gforth: `gforth FILE -e bye` as a subprocess, minus gforth's own start-up
   time (`gforth -e bye`, also best of K), so both columns are the time spent
   running the program.
+* acmeforth (with --acmeforth DIR, a checkout of the Python Forth
+  jkotlinski/acmeforth, whose `acmeforth` script interprets Forth files on
+  the host): `python3 DIR/acmeforth FILE` as a subprocess, the child's CPU
+  time, minus the same for an empty file (its own start-up), best of K.
 
 Each program prints `CHECKSUM n`; both systems must print the number in
 bench/expected.txt (gforth runs on 64-bit cells, rcl on 16-bit cells; the
@@ -29,6 +33,7 @@ roughly a ratio of 50-125 against gforth 0.7.3 on these programs.
 import argparse
 import pathlib
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -81,6 +86,30 @@ def time_gforth(path, k, startup):
     return max(best - startup, 1e-6), checksum(proc.stdout)
 
 
+def child_cpu(cmd):
+    """Run cmd; -> (its CPU seconds, user + system, CompletedProcess)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return cpu, proc
+
+
+def time_acmeforth(acme, path, k, startup):
+    """(CPU seconds less start-up, checksum): the best of k runs."""
+    runs = [child_cpu([sys.executable, str(acme / 'acmeforth'), str(path)])
+            for _ in range(k)]
+    return max(min(cpu for cpu, _ in runs) - startup, 1e-6), checksum(runs[-1][1].stdout)
+
+
+def acmeforth_startup(acme, k):
+    empty = BENCH / 'results' / 'empty.fs'
+    empty.parent.mkdir(exist_ok=True)
+    empty.write_text('')
+    return min(child_cpu([sys.executable, str(acme / 'acmeforth'), str(empty)])[0]
+               for _ in range(k))
+
+
 def ok(got, want):
     return 'n/a' if got is None and want is None else (
         'yes' if got == want else f'NO ({got})')
@@ -91,6 +120,8 @@ def main():
     ap.add_argument('--only', choices=PROGRAMS, help='run one program')
     ap.add_argument('--repeat', type=int, default=3, metavar='K',
                     help='best of K runs (default 3)')
+    ap.add_argument('--acmeforth', type=pathlib.Path, metavar='DIR',
+                    help='also time the Python Forth acmeforth checked out in DIR')
     args = ap.parse_args()
 
     expected = dict(line.split() for line in
@@ -102,9 +133,13 @@ def main():
         startup, _ = best_of(args.repeat, lambda: subprocess.run(
             ['gforth', '-e', 'bye'], capture_output=True))
 
+    acme = args.acmeforth
+    acme_startup = acmeforth_startup(acme, args.repeat) if acme else 0.0
+
     print('| benchmark | rcl s | gforth s | ratio rcl/gforth | rcl Mwords/s '
-          '| rcl virtual s | checksum ok (rcl / gforth) |')
-    print('|---|---:|---:|---:|---:|---:|---|')
+          '| rcl virtual s | checksum ok (rcl / gforth) |'
+          + (' acmeforth s | acmeforth/rcl | acmeforth ok |' if acme else ''))
+    print('|---|---:|---:|---:|---:|---:|---|' + ('---:|---:|---|' if acme else ''))
     for name in [args.only] if args.only else PROGRAMS:
         path = BENCH / f'{name}.fs'
         source = path.read_text()
@@ -129,14 +164,22 @@ def main():
             g_s, g_ok, g_col = None, 'n/a', 'not installed'
 
         ratio = f'{rcl_s / g_s:.0f}x' if rcl_s and g_s else '-'
-        print(f'| {name} | {rcl_col} | {g_col} | {ratio} | {mwords} | {virt} '
-              f'| {rcl_ok} / {g_ok} |')
+        row = (f'| {name} | {rcl_col} | {g_col} | {ratio} | {mwords} | {virt} '
+               f'| {rcl_ok} / {g_ok} |')
+        if acme:
+            a_s, a_sum = time_acmeforth(acme, path, args.repeat, acme_startup)
+            speedup = f'{a_s / rcl_s:.1f}x' if rcl_s else '-'
+            row += f' {a_s:.2f} | {speedup} | {ok(a_sum, want)} |'
+        print(row)
 
     print(f'\nwords: primitives executed, counted by rcl\'s virtual clock; '
           f'target >= {TARGET_MWORDS:g} M words/s.')
     if gforth:
         print(f'gforth start-up ({startup * 1000:.1f} ms) subtracted from the '
               f'gforth times.')
+    if acme:
+        print(f'acmeforth start-up ({acme_startup * 1000:.0f} ms of CPU) subtracted '
+              f'from the acmeforth times.')
 
 
 if __name__ == '__main__':
