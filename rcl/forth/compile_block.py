@@ -43,6 +43,7 @@ class BlockGen:
     def __init__(self):
         self.vs = []             # atoms standing for the top data-stack cells
         self.dpl = None          # a literal's DPL not yet stored
+        self.dpl_guard = False   # in a loop whose stores repeat: `_d` says if memory needs them
         self.index_atom = None   # the temp holding I, while the loop frame stays put
         self.rest = 0            # clock units clk holds beyond the primitive being emitted
         self.rs_known = None     # atoms known to be the top return-stack cells (locals)
@@ -72,9 +73,14 @@ class BlockGen:
         that may read them comes next."""
         if self.dpl is not None:
             wide = self.dpl == WIDE_DPL
+            if self.dpl_guard:                     # compile_loops.py: steady_dpl
+                self.emit("if _d:", ind)
+                ind += 1
             for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
                          (self.m.a_wide, MASK if wide else 0)):
                 self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
+            if self.dpl_guard:
+                self.emit("_d = 0", ind)
             self.dpl = None
 
     def flush(self, ind):
