@@ -22,7 +22,8 @@ and with the clock handed back to m.clock (`clock_out`): in the middle of
 a block it sees exactly the clock the reference loop would show.
 
 An RCL literal's DPL is stored only before a word that may read it
-(`flush_dpl`). A locals frame (rcl/words/localvars.py) is the return
+(`flush_dpl`; in a Python `while` loop, once while nothing changes it:
+compile_loops.py). A locals frame (rcl/words/localvars.py) is the return
 stack's `vs`: its cells stay Python names (`rs_known`) and the line that
 pushes them (`rs_pending`) is emitted only before something that may look
 at the return stack (`forget_rs`). `slow_entry` gives the same
