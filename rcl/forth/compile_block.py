@@ -22,7 +22,8 @@ and with the clock handed back to m.clock (`clock_out`): in the middle of
 a block it sees exactly the clock the reference loop would show.
 
 An RCL literal's DPL is stored only before a word that may read it
-(`flush_dpl`). A locals frame (rcl/words/localvars.py) is the return
+(`flush_dpl`; in a Python `while` loop, once while nothing changes it:
+compile_loops.py). A locals frame (rcl/words/localvars.py) is the return
 stack's `vs`: its cells stay Python names (`rs_known`) and the line that
 pushes them (`rs_pending`) is emitted only before something that may look
 at the return stack (`forget_rs`). `slow_entry` gives the same
@@ -43,6 +44,7 @@ class BlockGen:
     def __init__(self):
         self.vs = []             # atoms standing for the top data-stack cells
         self.dpl = None          # a literal's DPL not yet stored
+        self.dpl_guard = False   # in a loop whose stores repeat: `_d` says if memory needs them
         self.index_atom = None   # the temp holding I, while the loop frame stays put
         self.rest = 0            # clock units clk holds beyond the primitive being emitted
         self.rs_known = None     # atoms known to be the top return-stack cells (locals)
@@ -72,9 +74,14 @@ class BlockGen:
         that may read them comes next."""
         if self.dpl is not None:
             wide = self.dpl == WIDE_DPL
+            if self.dpl_guard:                     # compile_loops.py: steady_dpl
+                self.emit("if _d:", ind)
+                ind += 1
             for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
                          (self.m.a_wide, MASK if wide else 0)):
                 self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
+            if self.dpl_guard:
+                self.emit("_d = 0", ind)
             self.dpl = None
 
     def flush(self, ind):

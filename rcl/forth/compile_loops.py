@@ -33,11 +33,26 @@ the same primitives as in the reference loop; before the slow path runs,
 everything in locals is written back, so the primitives and any interrupt
 handler see the real stacks and clock.
 
+An RCL literal stores DPL (and WIDE-NUMBER) each time it runs. When the
+body stores the same value each iteration and writes no other memory
+(`steady_dpl`), an iteration finds those cells already holding it unless
+the slow path ran since (an interrupt handler may have changed them):
+the fast path stores only while `_d` says so, the slow path sets `_d`
+again, and memory at every point is the reference loop's:
+
+    _d = 1                                    # before the loop
+        ...                                   # (the slow path ends: _d = 1)
+            if _d:
+                mem[1030] = 255; mem[1031] = 255
+                mem[1064] = 0; mem[1065] = 0
+                _d = 0
+
 Only bodies whose every primitive is known not to look at the loop frame
 or the clock qualify: literals, variables, constants and inline templates
 that touch the return stack only as I or J.
 """
 from rcl.forth.control import LAST_INDEX
+from rcl.forth.decode import literal_template
 
 LOOP_RS_WORDS = ("I", "J")       # the only templates naming rs a loop body may use
 
@@ -65,6 +80,27 @@ class LoopGen:
                 return False
         return True
 
+    def steady_dpl(self, ops):
+        """Do the body's literals all leave the same DPL and WIDE-NUMBER,
+        with nothing else in it that may store to memory (so that after
+        one iteration's store the next finds them in place)?"""
+        values = set()
+        for i in ops:
+            p = i.prim
+            if i.op == "literal" and p.extra.get("lit") is not None:
+                dpl = p.extra["lit"](i.args)[1]
+                if dpl is not None:
+                    values.add(dpl)
+                continue
+            tpl = literal_template(i) or (p.template if i.op == "simple" else None)
+            if tpl is None:
+                continue                 # var, con, const, 2con, enter, exit
+            if "compile" in p.extra or (tpl.stmt is not None and tpl.stmt.uses & {"mem", "m", "W"}):
+                return False
+            if any("m" in o.uses for o in tpl.outputs if o.input is None):
+                return False
+        return len(values) == 1
+
     def loop_body(self, ops, plus, ind, carry):
         """One iteration's primitives in Python -> (lines, step, carried
         out), or None when the body does not keep the top of stack."""
@@ -72,10 +108,12 @@ class LoopGen:
         self.vs, self.dpl = (["_c"] if carry else []), None
         self.real_stack, self.in_loop, self.carried_used = False, True, False
         self.index_atom, self.open_calls, self.rs_unknown = None, 0, False
+        self.dpl_guard = self.steady_dpl(ops)
         for i in ops:                # (no Python primitive here: `rest` stays 0)
             self.op_simple(i, ind)
         step = self.take(1, ind)[0] if plus else None
         self.flush_dpl(ind)
+        self.dpl_guard = False
         out = None
         if carry:
             ok = self.carried_used and not self.real_stack and len(self.vs) == 1
@@ -97,16 +135,19 @@ class LoopGen:
         if not carry:
             body = self.loop_body(ops, plus, ind + 2, False)
         lines, step, out = body
+        steady = self.steady_dpl(ops)
         self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
         if carry:
             self.emit("_c = s.pop()", ind, "s")
+        if steady:
+            self.emit("_d = 1", ind)
         self.emit("while True:", ind)
         self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 1)
         self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
                   ind + 2, "s")
         self.emit("slow(m, %s, %d)" % (seq, term.cost), ind + 2)
         self.emit("clk = m.clock; _i = rs[-1]" + ("; _n = s.pop()" if plus else "")
-                  + ("; _c = s.pop()" if carry else ""), ind + 2)
+                  + ("; _c = s.pop()" if carry else "") + ("; _d = 1" if steady else ""), ind + 2)
         self.emit("else:", ind + 1)
         self.emit("clk += %d" % (pre + term.cost), ind + 2)
         self.lines.extend(lines)

@@ -1,0 +1,96 @@
+"""An RCL literal stores DPL and WIDE-NUMBER each time it runs; compiled
+code stores them less often (deferred to where they can be observed, once
+per loop while nothing changes them) and every point that can observe
+memory still sees what the reference loop `run_from` shows: an interrupt
+handler that reads DPL and WIDE-NUMBER and then changes them, falling at
+every offset of the body; the clock, the stacks and the whole memory at
+the end."""
+import pytest
+
+import rcl
+from rcl.forth.compiler import source
+from test_compiler_speed import PRIM
+
+# The handler runs about 25 primitives: periods beyond that leave the loop
+# fast iterations between interrupts, and these fall at every offset of
+# a body up to 7 primitives long.
+PERIODS = [k * PRIM + PRIM // 3 for k in range(40, 47)] + [97 * PRIM]
+
+# Reads DPL and WIDE-NUMBER before any literal of its own, logs them in
+# order, then leaves both changed (an interrupt that typed a number would).
+HANDLER = ("VARIABLE TICKS  CREATE SEEN 256 ALLOT"
+           "  : TICK  DPL @ WIDE-NUMBER @  TICKS @ 4 * SEEN +  2!"
+           "  TICKS @ 1+ 63 AND TICKS !  TICKS @ 3 AND DPL !  DPL @ WIDE-NUMBER ! ;")
+
+
+class Ticker:
+    def __init__(self, m, period):
+        self.xt = m.dictionary.find("TICK")[0]
+        self.period, self.due, self.times = period, period, []
+
+    def service(self, m):
+        self.times.append(m.clock)
+        self.due += self.period
+        m.run_handler(self.xt)
+
+
+def run(program, word, compiled, period):
+    m = rcl.Forth()
+    m.compiled = compiled
+    m.evaluate(HANDLER)
+    m.evaluate(program)
+    t = Ticker(m, period)
+    m.attach(t)
+    out = m.evaluate(word)
+    return (out, m.stack, m.clock, t.times, bytes(m.mem)), m
+
+
+PROGRAMS = {
+    # a one-block DO loop: its literal's store is done once while nothing
+    # changes DPL, again after each interrupt
+    "SUM": ": SUM  0 200 0 DO  I 7 + +  LOOP ;",
+    "READS": ": READS  0 200 0 DO  DPL @ + 5 +  WIDE-NUMBER @ +  LOOP ;",
+    "WIDE": ": WIDE  0 200 0 DO  40000 +  LOOP ;",                  # (RWLIT)
+    "NEST": ": NEST  0 10 0 DO  30 0 DO  I J * 3 + +  LOOP  LOOP ;",
+    "TWO": ": TWO  0 200 0 DO  I 2 + 3 + +  LOOP ;",                 # two literals, one value
+    # bodies where the store must be done every iteration: two values
+    # stored (0 before DPL @, -1 at the end), a store through an address
+    # only known at run time (here DPL's), a store into DPL itself
+    "DOUBLE": ": DOUBLE  0 200 0 DO  1. DROP DPL @ + + 5 +  LOOP ;",
+    "STORES": "VARIABLE P  DPL P !  : STORES  0 200 0 DO  P @ @ +  I P @ !  7 +  LOOP ;",
+    "HITDPL": ": HITDPL  0 200 0 DO  DPL @ +  I 9 + DPL !  3 +  LOOP ;",
+}
+
+
+@pytest.mark.parametrize("word", sorted(PROGRAMS))
+def test_every_observer_of_dpl_sees_what_the_reference_loop_shows(word):
+    for period in PERIODS:
+        (a, m), (b, _) = (run(PROGRAMS[word], word, c, period) for c in (True, False))
+        assert a[:4] == b[:4], (word, period)
+        assert a[4] == b[4], (word, period, "memory differs")
+        assert a[3], "the interrupt source fired"
+    assert "while True:\n" in source(m, word).split("while True:", 1)[1]
+
+
+def test_a_loop_whose_literals_leave_one_dpl_stores_it_once_until_the_slow_path_runs():
+    m = rcl.Forth()
+    m.evaluate(PROGRAMS["SUM"])
+    src = source(m, "SUM")
+    assert "_d = 1\n" in src and "if _d:" in src
+    body = src.split("_d = 1\n", 1)[1].split("break", 1)[0]   # the DO loop's while
+    assert body.count("mem[%d] = 255" % m.a_dpl) == 1
+
+
+@pytest.mark.parametrize("word", ["DOUBLE", "STORES", "HITDPL"])
+def test_a_loop_that_may_change_dpl_itself_stores_it_every_iteration(word):
+    m = rcl.Forth()
+    m.evaluate(PROGRAMS[word])
+    assert "if _d:" not in source(m, word)
+
+
+def test_the_handler_saw_the_loops_dpl_and_its_own():
+    # The proof above is only worth something if the handler's log holds
+    # both the literal's DPL (-1) and values it left itself (0..3).
+    (out, stack, clock, times, mem), m = run(PROGRAMS["SUM"], "SUM", True, 7 * PRIM + PRIM // 3)
+    seen = {int(m.evaluate("SEEN %d + @ U." % (4 * k + 2))) for k in range(len(times))}
+    assert 0xFFFF in seen and seen & {1, 2, 3}
