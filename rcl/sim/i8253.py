@@ -188,16 +188,23 @@ class Counter:
             self._write_lsb_next = True
             self._complete(self._lsb | byte << 8)
 
+    def count_complete(self):
+        """No count half written: the last write (if any) completed one, so
+        it may have changed n (after an LSB of an LSB-then-MSB count, n and
+        the mode are as before)."""
+        return self.rw != self.RW_BOTH or self._write_lsb_next
+
     def read(self):
         """A byte read from this counter's address (2.4)."""
-        if not self._latched and self._read_lsb_next:
+        rw, lsb_next = self.rw, self._read_lsb_next
+        if lsb_next and not self._latched:
             self._ol = self._encoded()      # OL follows CE: sample per read
-        msb = self.rw == self.RW_MSB or (
-            self.rw == self.RW_BOTH and not self._read_lsb_next)
-        byte = self._ol >> 8 if msb else self._ol & self.BYTE_MASK
-        if self.rw == self.RW_BOTH:
-            self._read_lsb_next = not self._read_lsb_next
-        if self._read_lsb_next:
+        if rw == 0b11:                      # RW_BOTH: LSB, then MSB
+            byte = self._ol & 0xFF if lsb_next else self._ol >> 8
+            lsb_next = self._read_lsb_next = not lsb_next
+        else:
+            byte = self._ol >> 8 if rw == 0b10 else self._ol & 0xFF
+        if lsb_next:
             self._latched = False           # fully read: OL follows CE again
         return byte
 
@@ -363,11 +370,10 @@ class I8253:
                 byte & cls.BCD_MASK)
 
     def write_control(self, byte):
-        sc, rw, mode, bcd = self.decode(byte)
-        if sc == self.SC_ILLEGAL:
+        sc = byte >> 6                  # the fields of decode(), as the tick's latches want them fast
+        if sc == 0b11:
             return                  # the 8254's read-back; an 8253 ignores it
-        counter = self.counters[sc]
-        if rw == Counter.RW_LATCH:
-            counter.latch()
+        if not byte & 0x30:         # RW 00: the counter latch command
+            self.counters[sc].latch()
         else:
-            counter.program(rw, mode, bcd)
+            self.counters[sc].program(*self.decode(byte)[1:])
