@@ -124,17 +124,20 @@ class Counter:
     @property
     def value(self):
         """The live CE as a number 0..modulus-1."""
+        modulus = self.BCD_MODULUS if self.bcd else self.BINARY_MODULUS
         if self.mode == 3 and self.running:
             # mode 3 loads N rounded down to even, then steps by 2 per CLK
             top = self._period & ~1
-            return (top - 2 * self._half_pos) % self.modulus
-        return self._ce % self.modulus
+            return (top - 2 * self._half_pos) % modulus
+        return self._ce % modulus
 
     def _encoded(self):
         """CE as the 16-bit word on the bus (four BCD digits in BCD mode)."""
         if self.bcd:
             return int("%04d" % self.value, 16)
-        return self.value
+        if self.mode == 3 and self.running:
+            return self.value
+        return self._ce & 0xFFFF            # the binary modulus, 0x10000
 
     def _decoded(self, word):
         """A written 16-bit count as a number (BCD digits by place value)."""

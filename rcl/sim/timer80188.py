@@ -402,8 +402,9 @@ class Timer80188:
         if not edges:               # no 2 MHz edge in between: nothing counts
             self.clock = now
             return
-        prescaler = self.prescaler()
         t0, t1, t2 = self.timers
+        # timer 2 as it stood at the start, for a timer it prescales (P set)
+        prescaler = self.prescaler() if (t0.control | t1.control) & P else None
         ticks2, first2 = t2.advance(edges)
         self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
