@@ -181,6 +181,9 @@ class Timer:
         if not n or not (self.control & (EN)):
             return 0, None
         d, first, total = self.steps_to_expiry(), None, 0
+        if n < d:                   # most calls: no expiry on the way
+            self.count = (self.count + n) & 0xFFFF
+            return 0, None
         while (self.control & (EN)) and n >= d:
             n -= d
             first = first or d
@@ -408,6 +411,8 @@ class Timer80188:
         ticks2, first2 = t2.advance(edges)
         self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
+            if not timer.control & EN:      # a stopped timer neither counts nor requests
+                continue
             source = timer.source()
             n = edges if source == INTERNAL else ticks2 if source == PRESCALED else 0
             expired, first = timer.advance(n)
