@@ -224,11 +224,12 @@ class SimBoard(Board):
         nothing reads a counter in between, and n CLKs at once count as n
         one at a time (as `cruise` relies on too)."""
         drive, latch, aux = self.drive, self.motor_latch, self.aux_latch
+        left, right = drive.left, drive.right
         f_left, f_right = self.refs
         lf = lr = rf = rr = 0
         ms = self.physics_ms
         while ms < target:
-            if self.is_idle():
+            if not (left.rate or right.rate) and self.is_idle():   # a turning wheel is never idle
                 ms = target
                 break
             if drive.steady(latch, aux, f_left, f_right):
@@ -240,7 +241,8 @@ class SimBoard(Board):
             lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
             ms += 1
         self.physics_ms = ms
-        self.deliver(((lf, lr), (rf, rr)))
+        if lf or lr or rf or rr:
+            self.deliver(((lf, lr), (rf, rr)))
 
     def is_idle(self):
         """Nothing moves and nothing would start moving."""
