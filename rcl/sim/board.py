@@ -128,9 +128,8 @@ class SimBoard(Board):
             chip = self.chips[base]
             if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
                 self._clock_ref(base, now)
-                chip.write(a, byte)
-                if a == 3 or chip.counters[0].count_complete():
-                    self.refs = self.references()   # the speed reference may have changed
+                if chip.write(a, byte) or a == 3:   # a new count or mode: a new speed reference?
+                    self.refs = self.references()
             elif a == 3:
                 chip.write_control(byte)
             else:

@@ -175,27 +175,25 @@ class Counter:
     # ------------------------------------------------------------------
 
     def write(self, byte):
-        """A byte written to this counter's address (2.3)."""
+        """A byte written to this counter's address (2.3); -> True if it
+        completed a count (only then may n, and so OUT's frequency, change)."""
         if self.mode is None:
-            return
+            return False
         byte &= self.BYTE_MASK
-        if self.rw == self.RW_LSB:
+        rw = self.rw
+        if rw == self.RW_LSB:
             self._complete(byte)
-        elif self.rw == self.RW_MSB:
+        elif rw == self.RW_MSB:
             self._complete(byte << 8)
         elif self._write_lsb_next:
             self._lsb = byte
             self._write_lsb_next = False
             self._holding = self.mode == 0
+            return False
         else:
             self._write_lsb_next = True
             self._complete(self._lsb | byte << 8)
-
-    def count_complete(self):
-        """No count half written: the last write (if any) completed one, so
-        it may have changed n (after an LSB of an LSB-then-MSB count, n and
-        the mode are as before)."""
-        return self.rw != self.RW_BOTH or self._write_lsb_next
+        return True
 
     def read(self):
         """A byte read from this counter's address (2.4)."""
@@ -358,11 +356,12 @@ class I8253:
         return self.counters[offset].read()
 
     def write(self, offset, byte):
+        """-> True if a count was completed (see Counter.write)."""
         offset &= self.OFFSET_MASK
         if offset == self.CONTROL:
             self.write_control(byte)
-        else:
-            self.counters[offset].write(byte)
+            return False
+        return self.counters[offset].write(byte)
 
     @classmethod
     def decode(cls, byte):
