@@ -258,3 +258,28 @@ def test_open_gives_a_machine_on_the_simulated_board_at_power_on():
     assert m.sim.pose == (0.0, 0.0, 0.0)
     assert (m.sim.arm, m.sim.jaw, m.sim.wheel_counts) == (8.0, 0.0, (0, 0))
     assert m.evaluate("2 3 + .") == "5 "
+
+
+@pytest.mark.parametrize("relays, count", [(BOTH_FORWARD, 50), (SPIN_CW, 60)])
+def test_a_stretch_of_accelerating_milliseconds_brought_up_at_once_equals_one_at_a_time(relays, count):
+    # physics_to hands a stepped stretch's pulses to the 8253s once, at its end
+    boards = []
+    for _ in range(2):
+        m = rcl.open(screens=False)
+        m.evaluate(LAYER)
+        drive(m, relays, count)
+        boards.append(m.sim.board)
+    at_once, one_by_one = boards
+    start = at_once.physics_ms
+    at_once.physics_to(start + 90)
+    for ms in range(start + 1, start + 91):
+        one_by_one.physics_to(ms)
+
+    def state(b):
+        d = b.drive
+        assert not d.steady(b.motor_latch, b.aux_latch, *b.refs)    # still accelerating
+        return ([(w.rate, w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],
+                (d.robot.x, d.robot.y, d.robot.heading_rad),
+                [c.value for chip in b.chips.values() for c in chip.counters[1:]])
+    assert state(at_once) == state(one_by_one)
+    assert at_once.drive.left.forward_counts + at_once.drive.left.reverse_counts > 5

@@ -2,6 +2,8 @@
 import time
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rcl.sim.i8253 import HIGH, LOW, Counter, I8253
 
@@ -527,3 +529,25 @@ def test_mode_5_counting_starts_at_a_gate_rising_edge():
     counter.set_gate(0)
     counter.set_gate(1)
     assert run_lengths(out_levels(counter, 5)) == [(HIGH, 3), (LOW, 1), (HIGH, 2)]
+
+
+# ----------------------------------------------------------------------
+# Counting in parts: the board hands over the pulses of many milliseconds at once
+# ----------------------------------------------------------------------
+
+@settings(max_examples=300, deadline=None)
+@given(mode=st.integers(0, 5), bcd=st.booleans(), count=st.integers(0, 0xFFFF),
+       parts=st.lists(st.integers(1, 70000), min_size=1, max_size=6))
+def test_n_clocks_at_once_leave_the_counter_as_the_same_clocks_in_parts(mode, bcd, count, parts):
+    control = 0x40 | 0x30 | mode << 1 | int(bcd)            # counter 1, LSB then MSB
+    if bcd:
+        count = int("%04d" % (count % 10000), 16)
+    at_once, in_parts = (programmed(control, count & 0xFF, count >> 8) for _ in range(2))
+    for chip in (at_once, in_parts):
+        chip.counters[1].set_gate(0)
+        chip.counters[1].set_gate(1)                        # a rising edge: triggers modes 1 and 5
+    at_once.counters[1].clock(sum(parts))
+    for n in parts:
+        in_parts.counters[1].clock(n)
+    assert vars(at_once.counters[1]) == vars(in_parts.counters[1])
+    assert read_word(at_once, 1) == read_word(in_parts, 1)

@@ -336,16 +336,19 @@ class Inner:
 
     def reschedule(self):
         """Recompute the deadline after an interrupt source changed."""
-        src = self.irq
+        # (comparisons rather than min(): this runs several times a tick)
+        d = self.hk_next
         if self.masked:
-            d = min(self.hk_next, self.handler_deadline)
+            limit = self.handler_deadline
+        elif self.break_pending:
+            self.deadline = -1
+            return
         else:
-            d = min(self.hk_next, self.clock_limit)
-            if src is not None and src.due is not None:
-                d = min(d, src.due)
-        if self.break_pending and not self.masked:
-            d = -1
-        self.deadline = d
+            limit = self.clock_limit
+            src = self.irq
+            if src is not None and src.due is not None and src.due < limit:
+                limit = src.due
+        self.deadline = limit if limit < d else d
 
     def interrupt(self, src):
         """Service src with interrupts masked and the handler's own stacks."""

@@ -125,12 +125,15 @@ class SimBoard(Board):
             self._latch(port, byte, now)
         elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
             base, a = port & ~3, port & 3
+            chip = self.chips[base]
             if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
                 self._clock_ref(base, now)
-                self.chips[base].write(a, byte)
-                self.refs = self.references()   # the speed reference may have changed
+                if chip.write(a, byte) or a == 3:   # a new count or mode: a new speed reference?
+                    self.refs = self.references()
+            elif a == 3:
+                chip.write_control(byte)
             else:
-                self.chips[base].write(a, byte)
+                chip.counters[a].write(byte)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
@@ -141,10 +144,10 @@ class SimBoard(Board):
 
     def _in8(self, port, now):
         if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base = port & ~3
-            if port & 3 == 0:
+            base, a = port & ~3, port & 3
+            if a == 0:
                 self._clock_ref(base, now)
-            return self.chips[base].read(port & 3)
+            return self.chips[base].counters[a].read() if a != 3 else I8253.CONTROL_READ
         if port == C.STATUS_PORT:
             return self.drive.status_byte(*self.refs)
         if port >= C.PCB_BASE:
@@ -215,15 +218,30 @@ class SimBoard(Board):
 
     def physics_to(self, target):
         """Physics up to millisecond `target`: jumped over while nothing
-        moves, in closed form at steady speed, else 1 ms at a time."""
-        while self.physics_ms < target:
-            if self.is_idle():
-                self.physics_ms = target
+        moves, in closed form at steady speed, else 1 ms at a time. The
+        stepped milliseconds' pulses reach the 8253s together at the end:
+        nothing reads a counter in between, and n CLKs at once count as n
+        one at a time (as `cruise` relies on too)."""
+        drive, latch, aux = self.drive, self.motor_latch, self.aux_latch
+        left, right = drive.left, drive.right
+        f_left, f_right = self.refs
+        lf = lr = rf = rr = 0
+        ms = self.physics_ms
+        while ms < target:
+            if not (left.rate or right.rate) and self.is_idle():   # a turning wheel is never idle
+                ms = target
                 break
-            if self.drive.steady(self.motor_latch, self.aux_latch, *self.refs):
-                self.cruise(target - self.physics_ms)
+            if drive.steady(latch, aux, f_left, f_right):
+                self.physics_ms = ms
+                self.cruise(target - ms)
+                ms = target
                 break
-            self.step_ms()
+            (a, b), (c, d) = drive.step(latch, aux, f_left, f_right)
+            lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
+            ms += 1
+        self.physics_ms = ms
+        if lf or lr or rf or rr:
+            self.deliver(((lf, lr), (rf, rr)))
 
     def is_idle(self):
         """Nothing moves and nothing would start moving."""
@@ -251,11 +269,6 @@ class SimBoard(Board):
             right[1].clock(rf)
         if rr:
             right[2].clock(rr)
-
-    def step_ms(self):
-        f_left, f_right = self.refs
-        self.deliver(self.drive.step(self.motor_latch, self.aux_latch, f_left, f_right))
-        self.physics_ms += 1
 
     # -------------------------------------------------------- interrupts
     def refresh_due(self):

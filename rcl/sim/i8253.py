@@ -124,17 +124,20 @@ class Counter:
     @property
     def value(self):
         """The live CE as a number 0..modulus-1."""
+        modulus = self.BCD_MODULUS if self.bcd else self.BINARY_MODULUS
         if self.mode == 3 and self.running:
             # mode 3 loads N rounded down to even, then steps by 2 per CLK
             top = self._period & ~1
-            return (top - 2 * self._half_pos) % self.modulus
-        return self._ce % self.modulus
+            return (top - 2 * self._half_pos) % modulus
+        return self._ce % modulus
 
     def _encoded(self):
         """CE as the 16-bit word on the bus (four BCD digits in BCD mode)."""
         if self.bcd:
             return int("%04d" % self.value, 16)
-        return self.value
+        if self.mode == 3 and self.running:
+            return self.value
+        return self._ce & 0xFFFF            # the binary modulus, 0x10000
 
     def _decoded(self, word):
         """A written 16-bit count as a number (BCD digits by place value)."""
@@ -172,32 +175,37 @@ class Counter:
     # ------------------------------------------------------------------
 
     def write(self, byte):
-        """A byte written to this counter's address (2.3)."""
+        """A byte written to this counter's address (2.3); -> True if it
+        completed a count (only then may n, and so OUT's frequency, change)."""
         if self.mode is None:
-            return
+            return False
         byte &= self.BYTE_MASK
-        if self.rw == self.RW_LSB:
+        rw = self.rw
+        if rw == self.RW_LSB:
             self._complete(byte)
-        elif self.rw == self.RW_MSB:
+        elif rw == self.RW_MSB:
             self._complete(byte << 8)
         elif self._write_lsb_next:
             self._lsb = byte
             self._write_lsb_next = False
             self._holding = self.mode == 0
+            return False
         else:
             self._write_lsb_next = True
             self._complete(self._lsb | byte << 8)
+        return True
 
     def read(self):
         """A byte read from this counter's address (2.4)."""
-        if not self._latched and self._read_lsb_next:
+        rw, lsb_next = self.rw, self._read_lsb_next
+        if lsb_next and not self._latched:
             self._ol = self._encoded()      # OL follows CE: sample per read
-        msb = self.rw == self.RW_MSB or (
-            self.rw == self.RW_BOTH and not self._read_lsb_next)
-        byte = self._ol >> 8 if msb else self._ol & self.BYTE_MASK
-        if self.rw == self.RW_BOTH:
-            self._read_lsb_next = not self._read_lsb_next
-        if self._read_lsb_next:
+        if rw == 0b11:                      # RW_BOTH: LSB, then MSB
+            byte = self._ol & 0xFF if lsb_next else self._ol >> 8
+            lsb_next = self._read_lsb_next = not lsb_next
+        else:
+            byte = self._ol >> 8 if rw == 0b10 else self._ol & 0xFF
+        if lsb_next:
             self._latched = False           # fully read: OL follows CE again
         return byte
 
@@ -348,11 +356,12 @@ class I8253:
         return self.counters[offset].read()
 
     def write(self, offset, byte):
+        """-> True if a count was completed (see Counter.write)."""
         offset &= self.OFFSET_MASK
         if offset == self.CONTROL:
             self.write_control(byte)
-        else:
-            self.counters[offset].write(byte)
+            return False
+        return self.counters[offset].write(byte)
 
     @classmethod
     def decode(cls, byte):
@@ -363,11 +372,10 @@ class I8253:
                 byte & cls.BCD_MASK)
 
     def write_control(self, byte):
-        sc, rw, mode, bcd = self.decode(byte)
-        if sc == self.SC_ILLEGAL:
+        sc = byte >> 6                  # the fields of decode(), as the tick's latches want them fast
+        if sc == 0b11:
             return                  # the 8254's read-back; an 8253 ignores it
-        counter = self.counters[sc]
-        if rw == Counter.RW_LATCH:
-            counter.latch()
+        if not byte & 0x30:         # RW 00: the counter latch command
+            self.counters[sc].latch()
         else:
-            counter.program(rw, mode, bcd)
+            self.counters[sc].program(*self.decode(byte)[1:])

@@ -181,6 +181,9 @@ class Timer:
         if not n or not (self.control & (EN)):
             return 0, None
         d, first, total = self.steps_to_expiry(), None, 0
+        if n < d:                   # most calls: no expiry on the way
+            self.count = (self.count + n) & 0xFFFF
+            return 0, None
         while (self.control & (EN)) and n >= d:
             n -= d
             first = first or d
@@ -402,16 +405,20 @@ class Timer80188:
         if not edges:               # no 2 MHz edge in between: nothing counts
             self.clock = now
             return
-        prescaler = self.prescaler()
         t0, t1, t2 = self.timers
+        # timer 2 as it stood at the start, for a timer it prescales (P set)
+        prescaler = self.prescaler() if (t0.control | t1.control) & P else None
         ticks2, first2 = t2.advance(edges)
-        self.latch(t2, ticks2, first2, base)
+        if ticks2:
+            self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
+            if not timer.control & EN:      # a stopped timer neither counts nor requests
+                continue
             source = timer.source()
             n = edges if source == INTERNAL else ticks2 if source == PRESCALED else 0
             expired, first = timer.advance(n)
-            edge = first and self.input_edge(timer, first, prescaler)
-            self.latch(timer, expired, edge, base)
+            if expired:
+                self.latch(timer, expired, self.input_edge(timer, first, prescaler), base)
         self.clock = now
 
     def latch(self, timer, expired, first_edge, base):

@@ -87,8 +87,9 @@ def read_position(m, wheel):
     prev_f, prev_r, fhi, flo, rhi, rlo = STATE.unpack(mem.read(a, 12))
     total_f = (((fhi << 16) | flo) + counted(prev_f, fwd)) & 0xFFFFFFFF
     total_r = (((rhi << 16) | rlo) + counted(prev_r, rev)) & 0xFFFFFFFF
-    mem.write(a, STATE.pack(fwd, rev, total_f >> 16, total_f & MASK,
-                            total_r >> 16, total_r & MASK))
+    if fwd != prev_f or rev != prev_r:   # else the state stays byte for byte
+        mem.write(a, STATE.pack(fwd, rev, total_f >> 16, total_f & MASK,
+                                total_r >> 16, total_r & MASK))
     return (total_f - total_r) & 0xFFFFFFFF
 
 
