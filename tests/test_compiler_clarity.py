@@ -8,21 +8,7 @@ import rcl
 from rcl.forth import compiler, control
 from rcl.forth.compiler import Gen, source, walk
 from rcl.forth.primitives import HELPERS, REGISTRY, Template
-
-PRIM = 1_000_000
-
-
-class Ticker:
-    """An interrupt every `period` clock units that counts in Forth."""
-
-    def __init__(self, m, period):
-        self.xt = m.dictionary.find("TICK")[0]
-        self.period, self.due, self.times = period, period, []
-
-    def service(self, m):
-        self.times.append(m.clock)
-        self.due += self.period
-        m.run_handler(self.xt)
+from test_compiler_speed import PRIM, Ticker
 
 
 def both_ways(program, word, period=7 * PRIM + 4321):

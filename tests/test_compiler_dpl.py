@@ -9,7 +9,7 @@ import pytest
 
 import rcl
 from rcl.forth.compiler import source
-from test_compiler_speed import PRIM
+from test_compiler_speed import PRIM, Ticker
 
 # The handler runs about 25 primitives: periods beyond that leave the loop
 # fast iterations between interrupts, and these fall at every offset of
@@ -21,17 +21,6 @@ PERIODS = [k * PRIM + PRIM // 3 for k in range(40, 47)] + [97 * PRIM]
 HANDLER = ("VARIABLE TICKS  CREATE SEEN 256 ALLOT"
            "  : TICK  DPL @ WIDE-NUMBER @  TICKS @ 4 * SEEN +  2!"
            "  TICKS @ 1+ 63 AND TICKS !  TICKS @ 3 AND DPL !  DPL @ WIDE-NUMBER ! ;")
-
-
-class Ticker:
-    def __init__(self, m, period):
-        self.xt = m.dictionary.find("TICK")[0]
-        self.period, self.due, self.times = period, period, []
-
-    def service(self, m):
-        self.times.append(m.clock)
-        self.due += self.period
-        m.run_handler(self.xt)
 
 
 def run(program, word, compiled, period):

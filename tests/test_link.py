@@ -45,6 +45,15 @@ def writes_by_port(pairs):
     return dict(log)
 
 
+def at_mid_move(server, action):
+    """Call action() once, as the served board's left wheel passes 150 counts."""
+    def watch(board, done=[]):
+        if not done and board.drive.left.position > 150:
+            done.append(True)
+            action()
+    server.board.observers.append(watch)
+
+
 def wait_for(condition, seconds=3.0):
     end = time.monotonic() + seconds
     while not condition() and time.monotonic() < end:
@@ -85,11 +94,7 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_within_250_ms(
     server = m.board.port.server
     m.evaluate(": LEG  RERB 3 INCHES FORWARD ;")
 
-    def cut_mid_move(board, done=[]):
-        if not done and board.drive.left.position > 150:
-            done.append(True)
-            server.cut_link()
-    server.board.observers.append(cut_mid_move)
+    at_mid_move(server, server.cut_link)
     with pytest.raises(rcl.ForthError) as e:
         m.evaluate("RERB 2 FEET FORWARD")
     assert e.value.screen() == " Link lost "
@@ -165,11 +170,7 @@ def test_ctrl_c_during_a_move_on_a_link_opens_the_boards_relays(linked):
     m = linked("rclsim://")
     server = m.board.port.server
 
-    def break_mid_move(board, done=[]):
-        if not done and board.drive.left.position > 150:
-            done.append(True)
-            m.request_break()
-    server.board.observers.append(break_mid_move)
+    at_mid_move(server, m.request_break)
     with pytest.raises(rcl.ForthError) as e:
         m.evaluate("RERB 2 FEET FORWARD")
     assert e.value.message == "Interrupted"
