@@ -120,15 +120,13 @@ class Outer:
         """Skip blanks, take a blank-delimited token; '' at the end."""
         addr, length = self.source()
         mem, i = self.memory.mem, self.memory.fetch(self.a_in)
-        if i < length and addr + length <= SIZE:     # one regex search, not a loop a byte
-            token = TOKEN.match(mem, addr + i, addr + length)
-            start, i = token.start(1) - addr, token.end(1) - addr
-        else:                                        # the buffer wraps round (or is empty)
-            while i < length and mem[(addr + i) & MASK] <= 32:
-                i += 1
-            start = i
-            while i < length and mem[(addr + i) & MASK] > 32:
-                i += 1
+        start = i                                    # (>IN at or past the end: '' there)
+        if i < length:                               # one regex search, not a loop a byte
+            buf, base = mem, addr
+            if addr + length > SIZE:                 # the buffer wraps round: unroll it
+                buf, base = mem[addr:] + mem[:addr + length - SIZE], 0
+            token = TOKEN.match(buf, base + i, base + length)
+            start, i = token.start(1) - base, token.end(1) - base
         self.memory.store(self.a_in, min(i + 1, length) if i < length else i)
         return self.memory.text((addr + start) & MASK, i - start), (addr + start) & MASK
 
