@@ -101,14 +101,14 @@ class LoopGen:
                 return False
         return len(values) == 1
 
-    def loop_body(self, ops, plus, ind, carry):
+    def loop_body(self, ops, plus, ind, carry, steady):
         """One iteration's primitives in Python -> (lines, step, carried
         out), or None when the body does not keep the top of stack."""
         saved, self.lines = self.lines, []
         self.vs, self.dpl = (["_c"] if carry else []), None
         self.real_stack, self.in_loop, self.carried_used = False, True, False
         self.index_atom, self.open_calls, self.rs_unknown = None, 0, False
-        self.dpl_guard = self.steady_dpl(ops)
+        self.dpl_guard = steady      # (steady_dpl: the fast path stores DPL while _d says so)
         for i in ops:                # (no Python primitive here: `rest` stays 0)
             self.op_simple(i, ind)
         step = self.take(1, ind)[0] if plus else None
@@ -130,12 +130,12 @@ class LoopGen:
         pre = sum(i.cost for i in ops)
         plus = term.op == "(+LOOP)"
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
-        body = self.loop_body(ops, plus, ind + 2, True)
+        steady = self.steady_dpl(ops)
+        body = self.loop_body(ops, plus, ind + 2, True, steady)
         carry = body is not None
         if not carry:
-            body = self.loop_body(ops, plus, ind + 2, False)
+            body = self.loop_body(ops, plus, ind + 2, False, steady)
         lines, step, out = body
-        steady = self.steady_dpl(ops)
         self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
         if carry:
             self.emit("_c = s.pop()", ind, "s")
