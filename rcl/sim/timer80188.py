@@ -173,8 +173,7 @@ class Timer:
 
     def steps_to_expiry(self):
         """Input clocks until the count next equals the max count."""
-        limit = (self.max_b if self.control & RIU else self.max_a) or COUNT_RANGE
-        return (limit - self.count) % COUNT_RANGE or COUNT_RANGE
+        return (self.limit() - self.count) % COUNT_RANGE or COUNT_RANGE
 
     def advance(self, n):
         """Count n input clocks; return (expiries, input clock of the first)."""
