@@ -31,10 +31,10 @@ few minutes with a machine at hand):
                         if t1 == 0: b = 0; continue
                     else:
                         clk += 4000000       # the whole block's cost at once
-                        t2 = s.pop()
+                        t2 = s[-1]
                         t3 = (t2 - 1) & 0xFFFF
                         t4 = 0xFFFF if t3 == 0 else 0
-                        s.append(t3)
+                        s[-1] = t3
                         if t4 == 0: b = 0; continue
                 if b <= 1:   # 198B          # block 1: EXIT
                     if clk + 0 >= m.deadline:
@@ -149,6 +149,7 @@ class Gen(BlockGen, LoopGen):
     def emit(self, line, ind, *uses):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
+        self.saw_line(ind, uses)
         self.lines.append("    " * ind + line)
         self.uses.update(uses)
 
