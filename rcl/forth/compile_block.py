@@ -54,6 +54,7 @@ class BlockGen:
         self.open_calls = 0      # inlined calls entered and not left, in the fast path
         self.rs_unknown = False  # Python code ran in this block: see call_check
         self.last_pop = None     # (lines, index, temp, indent) of a pop flush may make a peek
+        self.fetched = {}        # temp -> the constant address `@` read it from (xt_guess)
 
     # ------------------------------------------------- the data stack as atoms
     def take(self, n, ind):
@@ -150,6 +151,8 @@ class BlockGen:
                 t = self.temp()
                 self.emit("%s = %s" % (t, o.fill(atoms)), ind, *o.uses)
                 self.vs.append(t)
+                if p.name == "@" and atoms[0].isdigit():
+                    self.fetched[t] = int(atoms[0])
         if p.name == "I":
             self.index_atom = self.vs[-1]
 
@@ -212,6 +215,12 @@ class BlockGen:
             self.clock_out(ind)
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
             self.clock_in(ind)
+
+    def fetched_xt(self, x):
+        """What the cell atom x was fetched from holds now (`VEC @ EXECUTE`:
+        the xt it will most likely hold when the code runs), or None."""
+        a = self.fetched.get(x)
+        return None if a is None else self.m.memory.fetch(a)
 
     def slow_entry(self, ins):
         """(cost, fn, args) for the slow path."""

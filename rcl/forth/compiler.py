@@ -135,6 +135,7 @@ class Gen(BlockGen, LoopGen):
         self.consts = {}
         self.ntemp = 0
         self.uses = set()
+        self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -204,16 +205,13 @@ class Gen(BlockGen, LoopGen):
             code = ins.args[0]                 # the body, or the code after DOES>
             if kind == "does":
                 self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind, "s")
-            self.emit("rs.append(%d)" % ins.next, ind, "rs")
-            self.clock_out(ind)
-            self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
-            self.emit("r = (FN(%d) or CP(%d))(m)" % (code, code), ind)
+            self.enter_call(str(code), ins.next, ind)
             self.clock_in(ind)
             self.call_tail(ins, k, ind)
         elif kind == "defer":
             body = ins.args[0]
             self.emit("_x = mem[%d] | (mem[%d] << 8)" % (body, (body + 1) & MASK), ind, "mem")
-            self.dynamic_call("_x", ins.next, ind)
+            self.dynamic_call("_x", ins.next, ind, self.m.memory.fetch(body))
             self.call_tail(ins, k, ind)
         elif kind == "bad" or ins.prim.kind == "runtime":
             self.clock_out(ind)
@@ -226,18 +224,37 @@ class Gen(BlockGen, LoopGen):
             self.clock_in(ind)
             self.goto_next(k, ins.next, ind)
 
-    def dynamic_call(self, x, ret, ind):
+    def dynamic_call(self, x, ret, ind, guess=None):
         """Call the xt in x: straight into a colon word's compiled code when
-        no interrupt is due, else through m.call (which does it all)."""
-        self.emit("_a = (%s + 2) & 0xFFFF" % x, ind)
-        self.clock_out(ind)
-        self.emit("if mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0 and m.clock < m.deadline:"
-                  % (x, DOCOL_N, x), ind, "mem")
-        self.emit("m.clock += %d; rs.append(%d)" % (self.m.cost[DOCOL_N], ret), ind + 1, "rs")
-        self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind + 1)
-        self.emit("r = (FN(_a) or CP(_a))(m)", ind + 1)
-        self.emit("else: r = m.call(%s, %d)" % (x, ret), ind)
+        no interrupt is due at its (DOCOL), else through m.call (which does
+        it all). guess: the xt x held when this was compiled (a DEFER's, or
+        the cell `@` read); if that is a colon word, x is compared with it
+        first and its body called by number (its code field is watched)."""
+        docol = self.m.cost[DOCOL_N]
+        mem = self.m.memory
+        colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0" % (x, DOCOL_N, x)
+        if guess is not None and mem.fetch(guess) == DOCOL_N:
+            self.extra_marks.update((guess, (guess + 1) & MASK))
+            self.emit("if %s == %d and clk < m.deadline:" % (x, guess), ind)
+            self.enter_call(str((guess + 2) & MASK), ret, ind + 1, docol)
+            self.emit("elif %s and clk < m.deadline:" % colon, ind, "mem")
+        else:
+            self.emit("if %s and clk < m.deadline:" % colon, ind, "mem")
+        self.emit("_a = (%s + 2) & 0xFFFF" % x, ind + 1)
+        self.enter_call("_a", ret, ind + 1, docol)
+        self.emit("else:", ind)
+        self.clock_out(ind + 1)
+        self.emit("r = m.call(%s, %d)" % (x, ret), ind + 1)
         self.clock_in(ind)
+
+    def enter_call(self, a, ret, ind, docol=0):
+        """Call the compiled body at a as a colon word returning to ret,
+        after docol more clock units (a (DOCOL) not counted in the block)."""
+        self.emit("rs.append(%d)" % ret, ind, "rs")
+        self.emit("m.clock = clk + %d; clk = -1" % docol if docol else "m.clock = clk; clk = -1",
+                  ind)
+        self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
+        self.emit("r = (FN(%s) or CP(%s))(m)" % (a, a), ind)
 
     # ---------------------------------------------------------- assembly
     def block(self, k, ops, term, ind):
@@ -317,7 +334,7 @@ class Gen(BlockGen, LoopGen):
         # gets it back (unless a call or the slow path made m.clock the truth).
         self.lines[2:] = ["    try:"] + ["    " + line for line in self.lines[2:]] + [
             "    finally:", "        if clk >= 0: m.clock = clk"]
-        marks = set()
+        marks = set(self.extra_marks)
         for ins in code.values():
             for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):
                 span = (i.next - i.addr) & MASK or 2      # (code may wrap round
