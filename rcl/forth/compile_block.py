@@ -89,8 +89,14 @@ class BlockGen:
             if self.dpl_guard:                     # compile_loops.py: steady_dpl
                 self.emit("if _d:", ind)
                 ind += 1
-            for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
-                         (self.m.a_wide, MASK if wide else 0)):
+            cells = ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
+                     (self.m.a_wide, MASK if wide else 0))
+            if not self.dpl_guard:               # reading is cheaper than storing:
+                self.emit("if %s:" % " or ".join(     # store only what is not there yet
+                    "mem[%d] != %d or mem[%d] != %d" % (a, v & 0xFF, a + 1, v >> 8)
+                    for a, v in cells), ind, "mem")
+                ind += 1
+            for a, v in cells:
                 self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
             if self.dpl_guard:
                 self.emit("_d = 0", ind)
@@ -106,7 +112,7 @@ class BlockGen:
         last, self.last_pop = self.last_pop, None
         if self.vs:
             self.real_stack = True
-        if rewrite and last is not None and self.vs:
+        if rewrite and last is not None and last[3] == ind and self.vs:
             lines, i, t, at = last
             lines[i] = "    " * at + "%s = s[-1]" % t
             if self.vs[0] != t:

@@ -91,6 +91,8 @@ Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
 the next call). A definition already running finishes in its old form.
 """
+import types
+
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
 from rcl.forth.primitives import HELPERS
 from rcl.forth.compile_block import WIDE_DPL, BlockGen  # noqa: F401 (WIDE_DPL: for core.py)
@@ -349,7 +351,8 @@ def compile_code(m, entry):
     """Compile the threaded code at entry; returns the Python function."""
     gen = Gen(m, entry)
     src, marks = gen.build()
-    env = dict(gen.consts)
+    env = types.ModuleType(COMPILED).__dict__
+    env.update(gen.consts)
     env.update(HELPERS)
     env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
     exec(compile(src, COMPILED, "exec"), env)
