@@ -19,6 +19,10 @@ its cell takes the deepest atom (a pop and a push cost twice a store):
                             t3 = (t2 + 1) & 0xFFFF  # 1+
                             s[-1] = t3              # flush at the block's end
 
+A comparison's flag that only a branch uses is never made: `branch_test`
+drops its line and the branch tests the comparison itself (`2 < IF`:
+`if not ((t2 ^ 0x8000) < (2 ^ 0x8000)): b = 2`).
+
 A primitive with no template is called as Python (`P3(m)`), after a flush
 and with the clock handed back to m.clock (`clock_out`): in the middle of
 a block it sees exactly the clock the reference loop would show.
@@ -55,6 +59,8 @@ class BlockGen:
         self.rs_unknown = False  # Python code ran in this block: see call_check
         self.last_pop = None     # (lines, index, temp, indent) of a pop flush may make a peek
         self.fetched = {}        # temp -> the constant address `@` read it from (xt_guess)
+        self.flags = {}          # temp -> (lines, index, test) of a flag a comparison made
+        self.handed = {}         # atom -> times take or flush handed it out
 
     # ------------------------------------------------- the data stack as atoms
     def take(self, n, ind):
@@ -65,6 +71,8 @@ class BlockGen:
         if have and have[0] == "_c":              # a loop's carried top of stack
             self.carried_used = True
         del self.vs[len(self.vs) - len(have):]
+        for a in have:
+            self.handed[a] = self.handed.get(a, 0) + 1
         loaded = []
         for _ in range(n - len(have)):
             t = self.temp()
@@ -110,6 +118,8 @@ class BlockGen:
         rewrite=False: a flush on a side path only (call_check)."""
         self.flush_dpl(ind)
         last, self.last_pop = self.last_pop, None
+        for a in self.vs:
+            self.handed[a] = self.handed.get(a, 0) + 1
         if self.vs:
             self.real_stack = True
         if rewrite and last is not None and last[3] == ind and self.vs:
@@ -159,6 +169,8 @@ class BlockGen:
                 self.vs.append(t)
                 if p.name == "@" and atoms[0].isdigit():
                     self.fetched[t] = int(atoms[0])
+                if o.test is not None:
+                    self.flags[t] = (self.lines, len(self.lines) - 1, o.test.fill(atoms))
         if p.name == "I":
             self.index_atom = self.vs[-1]
 
@@ -221,6 +233,18 @@ class BlockGen:
             self.clock_out(ind)
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
             self.clock_in(ind)
+
+    def branch_test(self, f):
+        """The condition under which a branch on flag atom f is taken
+        (?BRANCH: when f is 0). When f is a comparison's flag that nothing
+        else uses, its line goes and the branch tests the comparison:
+        `t3 = 0xFFFF if X else 0 ... if t3 == 0:` becomes `if not (X):`."""
+        made = self.flags.get(f)
+        if made is None or self.handed.get(f) != 1:
+            return "%s == 0" % f
+        lines, i, test = made
+        lines[i] = None                          # (build drops it)
+        return "not (%s)" % test
 
     def fetched_xt(self, x):
         """What the cell atom x was fetched from holds now (`VEC @ EXECUTE`:

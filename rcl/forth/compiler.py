@@ -33,9 +33,8 @@ few minutes with a machine at hand):
                         clk += 4000000       # the whole block's cost at once
                         t2 = s[-1]
                         t3 = (t2 - 1) & 0xFFFF
-                        t4 = 0xFFFF if t3 == 0 else 0
                         s[-1] = t3
-                        if t4 == 0: b = 0; continue
+                        if not (t3 == 0): b = 0; continue   # 0= UNTIL: one test
                 if b <= 1:   # 198B          # block 1: EXIT
                     if clk + 0 >= m.deadline:
                         ...                  # the slow path, as above
@@ -50,6 +49,8 @@ few minutes with a machine at hand):
    writes each block's two ways (the slow path, then the fast one);
    `terminator` its end. The fast path's primitives come from
    compile_block.py (`op_simple`), the straight-line half of the compiler.
+   (DUP became a peek, `t2 = s[-1]`, and the flag of 0= is never made:
+   the branch tests the comparison; compile_block.py says when.)
 
 The clock lives in `clk`, a local; before any Python that may read or move
 the clock, m.clock gets it back and `clk = -1` tells the `finally` that
@@ -328,6 +329,7 @@ class Gen(BlockGen, LoopGen):
                 self.block(k, ops, term, ind + 1)
         # Every block ends in a return or a jump, or runs into the next one.
         self.emit("raise RuntimeError('compiled code ran past its last block')", 2)
+        self.lines = [line for line in self.lines if line is not None]   # (branch_test)
         if "d0" in self.uses:
             self.uses.add("rs")
         self.lines[1] = "    " + "; ".join(["%s = %s" % (n, v) for n, v in PROLOGUE

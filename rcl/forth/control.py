@@ -85,7 +85,7 @@ def run_qbranch(m, ip):
 def gen_qbranch(g, ins, k, ind):
     (f,) = g.take(1, ind)
     g.flush(ind)
-    g.branch("%s == 0" % f, ins.target, k, ins.next, ind)
+    g.branch(g.branch_test(f), ins.target, k, ins.next, ind)
 
 
 # ----------------------------------------------------------------- loops
