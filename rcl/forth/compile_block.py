@@ -99,11 +99,6 @@ class BlockGen:
                 ind += 1
             cells = ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
                      (self.m.a_wide, MASK if wide else 0))
-            if not self.dpl_guard:               # reading is cheaper than storing:
-                self.emit("if %s:" % " or ".join(     # store only what is not there yet
-                    "mem[%d] != %d or mem[%d] != %d" % (a, v & 0xFF, a + 1, v >> 8)
-                    for a, v in cells), ind, "mem")
-                ind += 1
             for a, v in cells:
                 self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
             if self.dpl_guard:
