@@ -78,7 +78,10 @@ the next block takes the slow path and stops at its first primitive).
 
 Calls: a colon word's function is called as Python (return address pushed
 on the real return stack, checked against what EXIT returns: see inner.py).
-A small straight colon word is not called at all: decode.py pastes its
+EXECUTE of an xt read from a cell (`VEC @ EXECUTE`) or a DEFER first
+compares the xt with the colon word the cell held at compile time and
+calls that body by number (`dynamic_call`); any other xt goes through
+m.call. A small straight colon word is not called at all: decode.py pastes its
 primitives into the caller's block, between an "enter" and an "exit" that
 cost what the call and its EXIT cost. A DO loop whose body is one block
 becomes a Python `while` with the index and the clock in locals
