@@ -58,7 +58,7 @@ class BlockGen:
         self.open_calls = 0      # inlined calls entered and not left, in the fast path
         self.rs_unknown = False  # Python code ran in this block: see call_check
         self.last_pop = None     # (lines, index, temp, indent) of a pop flush may make a peek
-        self.fetched = {}        # temp -> the constant address `@` read it from (xt_guess)
+        self.fetched = {}        # temp -> the constant address `@` read it from (fetched_xt)
         self.flags = {}          # temp -> (lines, index, test) of a flag a comparison made
         self.handed = {}         # atom -> times take or flush handed it out
 
@@ -97,9 +97,8 @@ class BlockGen:
             if self.dpl_guard:                     # compile_loops.py: steady_dpl
                 self.emit("if _d:", ind)
                 ind += 1
-            cells = ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
-                     (self.m.a_wide, MASK if wide else 0))
-            for a, v in cells:
+            for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
+                         (self.m.a_wide, MASK if wide else 0)):
                 self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
             if self.dpl_guard:
                 self.emit("_d = 0", ind)

@@ -237,9 +237,8 @@ class Gen(BlockGen, LoopGen):
         the cell `@` read); if that is a colon word, x is compared with it
         first and its body called by number (its code field is watched)."""
         docol = self.m.cost[DOCOL_N]
-        mem = self.m.memory
         colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0" % (x, DOCOL_N, x)
-        if guess is not None and mem.fetch(guess) == DOCOL_N:
+        if guess is not None and self.m.memory.fetch(guess) == DOCOL_N:
             self.extra_marks.update((guess, (guess + 1) & MASK))
             self.emit("if %s == %d and clk < m.deadline:" % (x, guess), ind)
             self.enter_call(str((guess + 2) & MASK), ret, ind + 1, docol)
@@ -257,8 +256,10 @@ class Gen(BlockGen, LoopGen):
         """Call the compiled body at a as a colon word returning to ret,
         after docol more clock units (a (DOCOL) not counted in the block)."""
         self.emit("rs.append(%d)" % ret, ind, "rs")
-        self.emit("m.clock = clk + %d; clk = -1" % docol if docol else "m.clock = clk; clk = -1",
-                  ind)
+        if docol:
+            self.emit("m.clock = clk + %d; clk = -1" % docol, ind)
+        else:
+            self.clock_out(ind)
         self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
         self.emit("r = (FN(%s) or CP(%s))(m)" % (a, a), ind)
 
@@ -356,8 +357,8 @@ def compile_code(m, entry):
     """Compile the threaded code at entry; returns the Python function."""
     gen = Gen(m, entry)
     src, marks = gen.build()
-    env = types.ModuleType(COMPILED).__dict__
-    env.update(gen.consts)
+    env = types.ModuleType(COMPILED).__dict__   # (PyPy's JIT reads a module's
+    env.update(gen.consts)                      # globals as constants, a dict's not)
     env.update(HELPERS)
     env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
     exec(compile(src, COMPILED, "exec"), env)
