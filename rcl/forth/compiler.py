@@ -142,6 +142,7 @@ class Gen(BlockGen, LoopGen):
         self.ntemp = 0
         self.uses = set()
         self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
+        self.docol_checked = False   # the block's check covered its call's (DOCOL) (block)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -237,14 +238,15 @@ class Gen(BlockGen, LoopGen):
         the cell `@` read); if that is a colon word, x is compared with it
         first and its body called by number (its code field is watched)."""
         docol = self.m.cost[DOCOL_N]
-        colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0" % (x, DOCOL_N, x)
+        due = "" if self.docol_checked else " and clk < m.deadline"
+        colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0%s" % (x, DOCOL_N, x, due)
         if guess is not None and self.m.memory.fetch(guess) == DOCOL_N:
             self.extra_marks.update((guess, (guess + 1) & MASK))
-            self.emit("if %s == %d and clk < m.deadline:" % (x, guess), ind)
+            self.emit("if %s == %d%s:" % (x, guess, due), ind)
             self.enter_call(str((guess + 2) & MASK), ret, ind + 1, docol)
-            self.emit("elif %s and clk < m.deadline:" % colon, ind, "mem")
+            self.emit("elif %s:" % colon, ind, "mem")
         else:
-            self.emit("if %s and clk < m.deadline:" % colon, ind, "mem")
+            self.emit("if %s:" % colon, ind, "mem")
         self.emit("_a = (%s + 2) & 0xFFFF" % x, ind + 1)
         self.enter_call("_a", ret, ind + 1, docol)
         self.emit("else:", ind)
@@ -273,13 +275,20 @@ class Gen(BlockGen, LoopGen):
         tcost = 0 if term.op is None or through_call else term.cost
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         self.index_atom = None
-        self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
+        # EXECUTE and DEFER call at the boundary after their own cell, the
+        # callee's (DOCOL): the fast path checks that one too, at the start
+        # (the deadline moves only in Python code, which ends a block).
+        self.docol_checked = term.op in ("EXECUTE", "defer")
+        ahead = tcost if self.docol_checked else 0
+        self.emit("if clk + %d >= m.deadline%s:" % (pre + ahead, self.depth_check(ops)), ind)
         self.clock_out(ind + 1)
         self.emit("slow(m, %s)" % seq if term.op is None or through_call
                   else "slow(m, %s, %d)" % (seq, tcost), ind + 1)
         self.clock_in(ind + 1)
         self.vs, self.dpl, self.rs_known = [], None, None
+        checked, self.docol_checked = self.docol_checked, False
         self.terminator(term, k, ind + 1)
+        self.docol_checked = checked
         self.emit("else:", ind)
         self.emit("clk += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl, self.index_atom, self.rs_known = [], None, None, None
@@ -290,6 +299,7 @@ class Gen(BlockGen, LoopGen):
             self.op_simple(i, ind + 1)
         self.rest = 0
         self.terminator(term, k, ind + 1)
+        self.docol_checked = False
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
