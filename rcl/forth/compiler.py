@@ -80,8 +80,8 @@ Calls: a colon word's function is called as Python (return address pushed
 on the real return stack, checked against what EXIT returns: see inner.py).
 EXECUTE of an xt read from a cell (`VEC @ EXECUTE`) or a DEFER first
 compares the xt with the colon word the cell held at compile time and
-calls that body by number (`dynamic_call`); any other xt goes through
-m.call. A small straight colon word is not called at all: decode.py pastes its
+calls that body's function directly while it stands (`dynamic_call`); any
+other xt goes through m.call. A small straight colon word is not called at all: decode.py pastes its
 primitives into the caller's block, between an "enter" and an "exit" that
 cost what the call and its EXIT cost. A DO loop whose body is one block
 becomes a Python `while` with the index and the clock in locals
@@ -241,9 +241,13 @@ class Gen(BlockGen, LoopGen):
         due = "" if self.docol_checked else " and clk < m.deadline"
         colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0%s" % (x, DOCOL_N, x, due)
         if guess is not None and self.m.memory.fetch(guess) == DOCOL_N:
+            # (FN has the body only while compiled code stands: once a store
+            # into the guessed word threw it away, the general way runs)
             self.extra_marks.update((guess, (guess + 1) & MASK))
-            self.emit("if %s == %d%s:" % (x, guess, due), ind)
-            self.enter_call(str((guess + 2) & MASK), ret, ind + 1, docol)
+            body = (guess + 2) & MASK
+            self.emit("_f = FN(%d) if %s == %d else None" % (body, x, guess), ind)
+            self.emit("if _f is not None%s:" % due, ind)
+            self.enter_call(None, ret, ind + 1, docol)
             self.emit("elif %s:" % colon, ind, "mem")
         else:
             self.emit("if %s:" % colon, ind, "mem")
@@ -255,15 +259,16 @@ class Gen(BlockGen, LoopGen):
         self.clock_in(ind)
 
     def enter_call(self, a, ret, ind, docol=0):
-        """Call the compiled body at a as a colon word returning to ret,
-        after docol more clock units (a (DOCOL) not counted in the block)."""
+        """Call the compiled body at a (None: the function in _f) as a colon
+        word returning to ret, after docol more clock units (a (DOCOL) not
+        counted in the block)."""
         self.emit("rs.append(%d)" % ret, ind, "rs")
         if docol:
             self.emit("m.clock = clk + %d; clk = -1" % docol, ind)
         else:
             self.clock_out(ind)
         self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
-        self.emit("r = (FN(%s) or CP(%s))(m)" % (a, a), ind)
+        self.emit("r = _f(m)" if a is None else "r = (FN(%s) or CP(%s))(m)" % (a, a), ind)
 
     # ---------------------------------------------------------- assembly
     def block(self, k, ops, term, ind):
