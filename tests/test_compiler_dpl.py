@@ -93,6 +93,6 @@ def test_outside_a_python_loop_every_observer_of_dpl_sees_what_the_reference_loo
                "  : H  DPL @ + 1+ DPL !  3 ;  : W  WIDE-NUMBER @ 1+ WIDE-NUMBER !  4 ;"
                "  : CALLS  0 40 0 DO  I 9 MOD B1 +  I H +  W +  DPL @ +  LOOP ;")
     for period in PERIODS:
-        (a, m), (b, _) = (run(program, "CALLS", c, period) for c in (True, False))
+        (a, _), (b, _) = (run(program, "CALLS", c, period) for c in (True, False))
         assert a[:4] == b[:4], period
         assert a[4] == b[4], (period, "memory differs")
