@@ -83,3 +83,16 @@ def test_the_handler_saw_the_loops_dpl_and_its_own():
     (out, stack, clock, times, mem), m = run(PROGRAMS["SUM"], "SUM", True, 7 * PRIM + PRIM // 3)
     seen = {int(m.evaluate("SEEN %d + @ U." % (4 * k + 2))) for k in range(len(times))}
     assert 0xFFFF in seen and seen & {1, 2, 3}
+
+
+def test_outside_a_python_loop_every_observer_of_dpl_sees_what_the_reference_loop_shows():
+    # B1 (branches, a recursive call, literals in three blocks), H and W (a
+    # store into DPL or into WIDE-NUMBER alone, then a literal) run outside
+    # any Python while loop
+    program = (": B1  DUP 3 < IF 7 + EXIT THEN  1- RECURSE  2 + ;"
+               "  : H  DPL @ + 1+ DPL !  3 ;  : W  WIDE-NUMBER @ 1+ WIDE-NUMBER !  4 ;"
+               "  : CALLS  0 40 0 DO  I 9 MOD B1 +  I H +  W +  DPL @ +  LOOP ;")
+    for period in PERIODS:
+        (a, _), (b, _) = (run(program, "CALLS", c, period) for c in (True, False))
+        assert a[:4] == b[:4], period
+        assert a[4] == b[4], (period, "memory differs")

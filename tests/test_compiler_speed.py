@@ -199,3 +199,14 @@ def test_an_inlined_call_after_code_that_grows_the_return_stack_overflows_where_
             out.append(seen)
         assert out[0] == out[1], word
         assert "Return Stack Overflow" in str(out[0]) and "ok" in str(out[0]), word
+
+
+def test_a_branch_on_a_comparison_tests_it_and_a_flag_used_again_is_still_made():
+    program = (": ONCE  0 40 0 DO  I 7 MOD 3 < IF 1+ ELSE 2 + THEN  LOOP ;"
+               "  : TWICE  0 40 0 DO  I 7 MOD 3 < DUP IF - ELSE + THEN  LOOP ;")
+    m = rcl.Forth()
+    m.evaluate(program)
+    assert "0xFFFF if" not in source(m, "ONCE") and "if not (" in source(m, "ONCE")
+    assert "0xFFFF if" in source(m, "TWICE")
+    for word in ("ONCE", "TWICE"):
+        same_both_ways(program, word, PERIODS)

@@ -10,12 +10,18 @@ names such as `t3`, or constants such as `5`) standing for the top cells.
 stack (`s.pop()`) only what `vs` does not hold; an inline template's
 outputs become new atoms, or numbers when its inputs are all numbers
 (`2 3 +` is `5`). `flush` writes `vs` back (`s.append`, `s.extend`) where
-the block ends and before anything that looks at the real stack:
+the block ends and before anything that looks at the real stack; when the
+last thing done to the real stack was a pop, that pop becomes a peek and
+its cell takes the deepest atom (a pop and a push cost twice a store):
 
-    : SQ+1  DUP * 1+ ;      t1 = s.pop()            # DUP takes 1, pushes it twice
+    : SQ+1  DUP * 1+ ;      t1 = s[-1]              # DUP takes 1 (a pop, made a peek)
                             t2 = (t1 * t1) & 0xFFFF # *
                             t3 = (t2 + 1) & 0xFFFF  # 1+
-                            s.append(t3)            # flush at the block's end
+                            s[-1] = t3              # flush at the block's end
+
+A comparison's flag that only a branch uses is never made: `branch_test`
+drops its line and the branch tests the comparison itself (`2 < IF`:
+`if not ((t2 ^ 0x8000) < (2 ^ 0x8000)): b = 2`).
 
 A primitive with no template is called as Python (`P3(m)`), after a flush
 and with the clock handed back to m.clock (`clock_out`): in the middle of
@@ -51,6 +57,10 @@ class BlockGen:
         self.rs_pending = None   # a line pushing them, not yet emitted (see forget_rs)
         self.open_calls = 0      # inlined calls entered and not left, in the fast path
         self.rs_unknown = False  # Python code ran in this block: see call_check
+        self.last_pop = None     # (lines, index, temp, indent) of a pop flush may make a peek
+        self.fetched = {}        # temp -> the constant address `@` read it from (fetched_xt)
+        self.flags = {}          # temp -> (lines, index, test) of a flag a comparison made
+        self.handed = {}         # atom -> times take or flush handed it out
 
     # ------------------------------------------------- the data stack as atoms
     def take(self, n, ind):
@@ -61,13 +71,23 @@ class BlockGen:
         if have and have[0] == "_c":              # a loop's carried top of stack
             self.carried_used = True
         del self.vs[len(self.vs) - len(have):]
+        for a in have:
+            self.handed[a] = self.handed.get(a, 0) + 1
         loaded = []
         for _ in range(n - len(have)):
             t = self.temp()
             self.emit("%s = s.pop()" % t, ind, "s")
+            self.last_pop = (self.lines, len(self.lines) - 1, t, ind)
             self.real_stack = True
             loaded.insert(0, t)
         return loaded + have
+
+    def saw_line(self, ind, uses):
+        """(From emit.) A line that looks at the real stack, or one less
+        indented than the last pop (another path), ends what flush may
+        rewrite (`last_pop`)."""
+        if self.last_pop is not None and ("s" in uses or ind < self.last_pop[3]):
+            self.last_pop = None
 
     def flush_dpl(self, ind):
         """An RCL literal's DPL (and WIDE-NUMBER) is stored only when a word
@@ -84,10 +104,24 @@ class BlockGen:
                 self.emit("_d = 0", ind)
             self.dpl = None
 
-    def flush(self, ind):
+    def flush(self, ind, rewrite=True):
+        """Write vs back. When the last line that touched the real stack
+        was a pop on this path, that cell is still free: the pop becomes a
+        peek (`t = s[-1]`) and the deepest atom goes into the cell
+        (`s[-1] = x`, nothing when it is t) instead of a pop and a push.
+        rewrite=False: a flush on a side path only (call_check)."""
         self.flush_dpl(ind)
+        last, self.last_pop = self.last_pop, None
+        for a in self.vs:
+            self.handed[a] = self.handed.get(a, 0) + 1
         if self.vs:
             self.real_stack = True
+        if rewrite and last is not None and last[3] == ind and self.vs:
+            lines, i, t, at = last
+            lines[i] = "    " * at + "%s = s[-1]" % t
+            if self.vs[0] != t:
+                self.emit("s[-1] = %s" % self.vs[0], ind, "s")
+            del self.vs[0]
         if len(self.vs) == 1:
             self.emit("s.append(%s)" % self.vs[0], ind, "s")
         elif self.vs:
@@ -127,6 +161,10 @@ class BlockGen:
                 t = self.temp()
                 self.emit("%s = %s" % (t, o.fill(atoms)), ind, *o.uses)
                 self.vs.append(t)
+                if p.name == "@" and atoms[0].isdigit():
+                    self.fetched[t] = int(atoms[0])
+                if o.test is not None:
+                    self.flags[t] = (self.lines, len(self.lines) - 1, o.test.fill(atoms))
         if p.name == "I":
             self.index_atom = self.vs[-1]
 
@@ -190,6 +228,24 @@ class BlockGen:
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
             self.clock_in(ind)
 
+    def branch_test(self, f):
+        """The condition under which a branch on flag atom f is taken
+        (?BRANCH: when f is 0). When f is a comparison's flag that nothing
+        else uses, its line goes and the branch tests the comparison:
+        `t3 = 0xFFFF if X else 0 ... if t3 == 0:` becomes `if not (X):`."""
+        made = self.flags.get(f)
+        if made is None or self.handed.get(f) != 1:
+            return "%s == 0" % f
+        lines, i, test = made
+        lines[i] = None                          # (build drops it)
+        return "not (%s)" % test
+
+    def fetched_xt(self, x):
+        """What the cell atom x was fetched from holds now (`VEC @ EXECUTE`:
+        the xt it will most likely hold when the code runs), or None."""
+        a = self.fetched.get(x)
+        return None if a is None else self.m.memory.fetch(a)
+
     def slow_entry(self, ins):
         """(cost, fn, args) for the slow path."""
         p, op = ins.prim, ins.op
@@ -229,7 +285,7 @@ class BlockGen:
         unseen = self.open_calls + (len(self.rs_known) if self.rs_pending else 0)
         self.emit("if len(rs) > %d:" % (RSTACK_CELLS - unseen), ind, "rs")
         vs, dpl = list(self.vs), self.dpl
-        self.flush(ind + 1)
+        self.flush(ind + 1, rewrite=False)
         self.vs, self.dpl = vs, dpl
         self.clock_out(ind + 1)
         self.emit("m.rs_overflow()", ind + 1)

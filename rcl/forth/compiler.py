@@ -31,11 +31,10 @@ few minutes with a machine at hand):
                         if t1 == 0: b = 0; continue
                     else:
                         clk += 4000000       # the whole block's cost at once
-                        t2 = s.pop()
+                        t2 = s[-1]
                         t3 = (t2 - 1) & 0xFFFF
-                        t4 = 0xFFFF if t3 == 0 else 0
-                        s.append(t3)
-                        if t4 == 0: b = 0; continue
+                        s[-1] = t3
+                        if not (t3 == 0): b = 0; continue   # 0= UNTIL: one test
                 if b <= 1:   # 198B          # block 1: EXIT
                     if clk + 0 >= m.deadline:
                         ...                  # the slow path, as above
@@ -50,6 +49,8 @@ few minutes with a machine at hand):
    writes each block's two ways (the slow path, then the fast one);
    `terminator` its end. The fast path's primitives come from
    compile_block.py (`op_simple`), the straight-line half of the compiler.
+   (DUP became a peek, `t2 = s[-1]`, and the flag of 0= is never made:
+   the branch tests the comparison; compile_block.py says when.)
 
 The clock lives in `clk`, a local; before any Python that may read or move
 the clock, m.clock gets it back and `clk = -1` tells the `finally` that
@@ -77,7 +78,10 @@ the next block takes the slow path and stops at its first primitive).
 
 Calls: a colon word's function is called as Python (return address pushed
 on the real return stack, checked against what EXIT returns: see inner.py).
-A small straight colon word is not called at all: decode.py pastes its
+EXECUTE of an xt read from a cell (`VEC @ EXECUTE`) or a DEFER first
+compares the xt with the colon word the cell held at compile time and
+calls that body's function directly while it stands (`dynamic_call`); any
+other xt goes through m.call. A small straight colon word is not called at all: decode.py pastes its
 primitives into the caller's block, between an "enter" and an "exit" that
 cost what the call and its EXIT cost. A DO loop whose body is one block
 becomes a Python `while` with the index and the clock in locals
@@ -91,6 +95,8 @@ Memory stays the truth: every cell the compiled code depends on is marked
 in `watch`; a store there throws all compiled code away (it is rebuilt on
 the next call). A definition already running finishes in its old form.
 """
+import types
+
 from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
 from rcl.forth.primitives import HELPERS
 from rcl.forth.compile_block import WIDE_DPL, BlockGen  # noqa: F401 (WIDE_DPL: for core.py)
@@ -135,6 +141,8 @@ class Gen(BlockGen, LoopGen):
         self.consts = {}
         self.ntemp = 0
         self.uses = set()
+        self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
+        self.docol_checked = False   # the block's check covered its call's (DOCOL) (block)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -149,6 +157,7 @@ class Gen(BlockGen, LoopGen):
     def emit(self, line, ind, *uses):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
+        self.saw_line(ind, uses)
         self.lines.append("    " * ind + line)
         self.uses.update(uses)
 
@@ -203,16 +212,13 @@ class Gen(BlockGen, LoopGen):
             code = ins.args[0]                 # the body, or the code after DOES>
             if kind == "does":
                 self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind, "s")
-            self.emit("rs.append(%d)" % ins.next, ind, "rs")
-            self.clock_out(ind)
-            self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
-            self.emit("r = (FN(%d) or CP(%d))(m)" % (code, code), ind)
+            self.enter_call(str(code), ins.next, ind)
             self.clock_in(ind)
             self.call_tail(ins, k, ind)
         elif kind == "defer":
             body = ins.args[0]
             self.emit("_x = mem[%d] | (mem[%d] << 8)" % (body, (body + 1) & MASK), ind, "mem")
-            self.dynamic_call("_x", ins.next, ind)
+            self.dynamic_call("_x", ins.next, ind, self.m.memory.fetch(body))
             self.call_tail(ins, k, ind)
         elif kind == "bad" or ins.prim.kind == "runtime":
             self.clock_out(ind)
@@ -225,18 +231,44 @@ class Gen(BlockGen, LoopGen):
             self.clock_in(ind)
             self.goto_next(k, ins.next, ind)
 
-    def dynamic_call(self, x, ret, ind):
+    def dynamic_call(self, x, ret, ind, guess=None):
         """Call the xt in x: straight into a colon word's compiled code when
-        no interrupt is due, else through m.call (which does it all)."""
-        self.emit("_a = (%s + 2) & 0xFFFF" % x, ind)
-        self.clock_out(ind)
-        self.emit("if mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0 and m.clock < m.deadline:"
-                  % (x, DOCOL_N, x), ind, "mem")
-        self.emit("m.clock += %d; rs.append(%d)" % (self.m.cost[DOCOL_N], ret), ind + 1, "rs")
-        self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind + 1)
-        self.emit("r = (FN(_a) or CP(_a))(m)", ind + 1)
-        self.emit("else: r = m.call(%s, %d)" % (x, ret), ind)
+        no interrupt is due at its (DOCOL), else through m.call (which does
+        it all). guess: the xt x held when this was compiled (a DEFER's, or
+        the cell `@` read); if that is a colon word, x is compared with it
+        first and its body called by number (its code field is watched)."""
+        docol = self.m.cost[DOCOL_N]
+        due = "" if self.docol_checked else " and clk < m.deadline"
+        colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0%s" % (x, DOCOL_N, x, due)
+        if guess is not None and self.m.memory.fetch(guess) == DOCOL_N:
+            # (FN has the body only while compiled code stands: once a store
+            # into the guessed word threw it away, the general way runs)
+            self.extra_marks.update((guess, (guess + 1) & MASK))
+            body = (guess + 2) & MASK
+            self.emit("_f = FN(%d) if %s == %d else None" % (body, x, guess), ind)
+            self.emit("if _f is not None%s:" % due, ind)
+            self.enter_call(None, ret, ind + 1, docol)
+            self.emit("elif %s:" % colon, ind, "mem")
+        else:
+            self.emit("if %s:" % colon, ind, "mem")
+        self.emit("_a = (%s + 2) & 0xFFFF" % x, ind + 1)
+        self.enter_call("_a", ret, ind + 1, docol)
+        self.emit("else:", ind)
+        self.clock_out(ind + 1)
+        self.emit("r = m.call(%s, %d)" % (x, ret), ind + 1)
         self.clock_in(ind)
+
+    def enter_call(self, a, ret, ind, docol=0):
+        """Call the compiled body at a (None: the function in _f) as a colon
+        word returning to ret, after docol more clock units (a (DOCOL) not
+        counted in the block)."""
+        self.emit("rs.append(%d)" % ret, ind, "rs")
+        if docol:
+            self.emit("m.clock = clk + %d; clk = -1" % docol, ind)
+        else:
+            self.clock_out(ind)
+        self.emit("if len(rs) > %d: m.rs_overflow()" % RSTACK_CELLS, ind)
+        self.emit("r = _f(m)" if a is None else "r = (FN(%s) or CP(%s))(m)" % (a, a), ind)
 
     # ---------------------------------------------------------- assembly
     def block(self, k, ops, term, ind):
@@ -248,13 +280,20 @@ class Gen(BlockGen, LoopGen):
         tcost = 0 if term.op is None or through_call else term.cost
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         self.index_atom = None
-        self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
+        # EXECUTE and DEFER call at the boundary after their own cell, the
+        # callee's (DOCOL): the fast path checks that one too, at the start
+        # (the deadline moves only in Python code, which ends a block).
+        self.docol_checked = term.op in ("EXECUTE", "defer")
+        ahead = tcost if self.docol_checked else 0
+        self.emit("if clk + %d >= m.deadline%s:" % (pre + ahead, self.depth_check(ops)), ind)
         self.clock_out(ind + 1)
         self.emit("slow(m, %s)" % seq if term.op is None or through_call
                   else "slow(m, %s, %d)" % (seq, tcost), ind + 1)
         self.clock_in(ind + 1)
         self.vs, self.dpl, self.rs_known = [], None, None
+        checked, self.docol_checked = self.docol_checked, False
         self.terminator(term, k, ind + 1)
+        self.docol_checked = checked
         self.emit("else:", ind)
         self.emit("clk += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl, self.index_atom, self.rs_known = [], None, None, None
@@ -265,6 +304,7 @@ class Gen(BlockGen, LoopGen):
             self.op_simple(i, ind + 1)
         self.rest = 0
         self.terminator(term, k, ind + 1)
+        self.docol_checked = False
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
@@ -308,6 +348,7 @@ class Gen(BlockGen, LoopGen):
                 self.block(k, ops, term, ind + 1)
         # Every block ends in a return or a jump, or runs into the next one.
         self.emit("raise RuntimeError('compiled code ran past its last block')", 2)
+        self.lines = [line for line in self.lines if line is not None]   # (branch_test)
         if "d0" in self.uses:
             self.uses.add("rs")
         self.lines[1] = "    " + "; ".join(["%s = %s" % (n, v) for n, v in PROLOGUE
@@ -316,7 +357,7 @@ class Gen(BlockGen, LoopGen):
         # gets it back (unless a call or the slow path made m.clock the truth).
         self.lines[2:] = ["    try:"] + ["    " + line for line in self.lines[2:]] + [
             "    finally:", "        if clk >= 0: m.clock = clk"]
-        marks = set()
+        marks = set(self.extra_marks)
         for ins in code.values():
             for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):
                 span = (i.next - i.addr) & MASK or 2      # (code may wrap round
@@ -331,7 +372,8 @@ def compile_code(m, entry):
     """Compile the threaded code at entry; returns the Python function."""
     gen = Gen(m, entry)
     src, marks = gen.build()
-    env = dict(gen.consts)
+    env = types.ModuleType(COMPILED).__dict__   # (PyPy's JIT reads a module's
+    env.update(gen.consts)                      # globals as constants, a dict's not)
     env.update(HELPERS)
     env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
     exec(compile(src, COMPILED, "exec"), env)

@@ -85,7 +85,7 @@ def run_qbranch(m, ip):
 def gen_qbranch(g, ins, k, ind):
     (f,) = g.take(1, ind)
     g.flush(ind)
-    g.branch("%s == 0" % f, ins.target, k, ins.next, ind)
+    g.branch(g.branch_test(f), ins.target, k, ins.next, ind)
 
 
 # ----------------------------------------------------------------- loops
@@ -205,7 +205,7 @@ def run_execute(m, ip):
 def gen_execute(g, ins, k, ind):
     (x,) = g.take(1, ind)
     g.flush(ind)
-    g.dynamic_call(x, ins.next, ind)
+    g.dynamic_call(x, ins.next, ind, g.fetched_xt(x))
     g.call_tail(ins, k, ind)
 
 

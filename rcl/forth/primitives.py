@@ -90,6 +90,13 @@ class Part:
         self.fold = None
         if mode == "eval" and not self.uses:
             self.fold = eval("lambda %s: %s" % (", ".join(inputs), text), dict(HELPERS))
+        # A flag `0xFFFF if test else 0`: its test alone, for a branch on it
+        body = tree.body if mode == "eval" else None
+        self.test = None
+        if isinstance(body, ast.IfExp) and all(
+                isinstance(n, ast.Constant) for n in (body.body, body.orelse)) \
+                and (body.body.value, body.orelse.value) == (0xFFFF, 0):
+            self.test = Part(word, ast.get_source_segment(text, body.test), inputs, mode)
 
     def fill(self, atoms):
         return self.fmt.format(*atoms)

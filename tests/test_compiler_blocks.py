@@ -1,0 +1,27 @@
+"""Straight-line blocks of compiled code run as the reference loop runs
+them, whatever the words: random runs of stack words, arithmetic and
+comparisons, with IF ... ELSE ... THEN on their flags (a pop that becomes
+a peek, a flag that a branch tests without making it, a value kept back
+and flushed), at random interrupt periods: the same output, stacks, clock
+and interrupt times."""
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from test_compiler_speed import PRIM, run
+
+WORDS = ["DUP", "DROP", "SWAP", "OVER", "ROT", "NIP", "TUCK", "2DUP", "+", "-", "*",
+         "AND", "<", "=", "0=", "U<", "1+", "2*", "7", "-3", "OVER 0<"]
+
+piece = st.lists(st.sampled_from(WORDS), min_size=1, max_size=3).map(" ".join)
+branchy = st.builds("{} IF {} ELSE {} THEN".format, piece, piece, piece)
+body = st.lists(st.one_of(piece, branchy), min_size=1, max_size=3).map("  ".join)
+
+
+@settings(max_examples=60, deadline=None)
+@given(body=body, period=st.integers(2 * PRIM, 40 * PRIM) | st.integers(40 * PRIM, 400 * PRIM))
+def test_random_blocks_run_as_the_reference_loop_runs_them(body, period):
+    program = (": W  %s ;  : SHOW  1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16"
+               "  W  DEPTH 0 ?DO  .  LOOP ;" % body)      # (W's inputs unknown to it)
+    a, b = (run(program, "SHOW", c, period) for c in (True, False))
+    assert a[:5] == b[:5], program
+    assert a[3] or period >= 40 * PRIM, "the interrupt source fired"
