@@ -86,6 +86,8 @@ class BlockGen:
 
     def flush(self, ind):
         self.flush_dpl(ind)
+        if self.carrying:                          # inside a loop of several blocks
+            return self.carry_out(ind)             # (compile_loops.py)
         if self.vs:
             self.real_stack = True
         if len(self.vs) == 1:

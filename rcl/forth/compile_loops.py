@@ -51,10 +51,60 @@ Only bodies whose every primitive is known not to look at the loop frame
 or the clock qualify: literals, variables, constants and inline templates
 that touch the return stack only as I or J.
 """
-from rcl.forth.control import LAST_INDEX
-from rcl.forth.decode import literal_template
+from rcl.forth.control import LAST_INDEX, goes_on
+from rcl.forth.decode import NO_TERMINATOR, literal_template
 
 LOOP_RS_WORDS = ("I", "J")       # the only templates naming rs a loop body may use
+CARRY_LIMIT = 8                  # stack cells a loop of several blocks keeps in locals
+INSIDE = ("?BRANCH", "BRANCH")   # the control operations allowed inside such a loop
+
+
+def stack_effect(ins):
+    """(cells taken, cells left) on the data stack by an instruction a loop
+    body may hold (loop_op), or by a terminator."""
+    if ins is None or ins.op in (None, "BRANCH", "(LOOP)", "enter", "exit"):
+        return 0, 0
+    if ins.op in ("?BRANCH", "(+LOOP)"):
+        return 1, 0
+    if ins.op in ("var", "con", "const"):
+        return 0, 1
+    if ins.op == "2con":
+        return 0, 2
+    if ins.op == "literal":
+        return 0, len(ins.prim.extra["lit"](ins.args)[0])
+    tpl = ins.prim.template
+    return len(tpl.inputs), len(tpl.outputs)
+
+
+def loop_op(i):
+    """May instruction i be in a loop body run as a Python while? Only what
+    is known not to look at the loop frame, the clock or the real stack."""
+    p = i.prim
+    if i.op in ("var", "con", "const", "2con", "enter", "exit"):
+        return True
+    if i.op == "literal":
+        return p.extra.get("lit") is not None
+    if i.op != "simple" or p.template is None:
+        return False
+    return "rs" not in p.template.uses or p.name in LOOP_RS_WORDS
+
+
+def push(cells):
+    """The statement (after "; ") that pushes cells on the real stack."""
+    if len(cells) > 1:
+        return "; s.extend((%s))" % ", ".join(cells)
+    return "; s.append(%s)" % cells[0] if cells else ""
+
+
+class Region:
+    """A DO loop whose body is blocks first..last, as one Python while:
+    `carry[k]` stack cells are in locals _k0.. when block k starts, `after[k]`
+    when its primitives are done; at a head (the loop's start, a BEGIN's)
+    `heads[k]` is the clock the body may spend before the next head."""
+
+    def __init__(self, first, last, carry, after, heads, uses_i):
+        self.first, self.last, self.carry, self.after = first, last, carry, after
+        self.heads, self.uses_i = heads, uses_i
 
 
 class LoopGen:
@@ -63,22 +113,13 @@ class LoopGen:
     in_loop = False
     real_stack = False           # the body loaded from or wrote to the real stack
     carried_used = False         # the body took the carried top of stack
+    carrying = False             # in a Region: flush hands vs on in locals (carry_out)
 
     def loopable(self, ops, term, start):
         """Can this block run as a Python while loop?"""
         if term is None or term.op not in ("(LOOP)", "(+LOOP)") or term.target != start:
             return False
-        for i in ops:
-            p = i.prim
-            if i.op in ("var", "con", "const", "2con", "enter", "exit"):
-                continue
-            if i.op == "literal" and p.extra.get("lit") is not None:
-                continue
-            if i.op != "simple" or p.template is None:
-                return False
-            if "rs" in p.template.uses and p.name not in LOOP_RS_WORDS:
-                return False
-        return True
+        return all(loop_op(i) for i in ops)
 
     def steady_dpl(self, ops):
         """Do the body's literals all leave the same DPL and WIDE-NUMBER,
@@ -164,3 +205,163 @@ class LoopGen:
             self.emit("s.append(_c)", ind)
         self.emit("del rs[-3:]", ind)
         self.goto_next(k, term.next, ind)
+
+    # ------------------------------------------- loops of several blocks
+    def find_regions(self, blocks, group):
+        """{first block: Region} for the DO loops of several blocks that can
+        run as a Python while (blocks: (addr, ops, terminator, next) each;
+        group: guards are grouped by this many blocks, a loop stays in one)."""
+        regions = {}
+        for last, (_, _, term, _) in enumerate(blocks):
+            if term is None or term.op not in ("(LOOP)", "(+LOOP)"):
+                continue
+            first = self.index.get(term.target)
+            if first is None or first >= last or (group and first // group != last // group):
+                continue
+            r = self.region(blocks, first, last)
+            if r is not None:
+                regions[first] = r
+        return regions
+
+    def successors(self, blocks, k):
+        """The blocks block k may go on at, or None if it may leave some other way."""
+        _, _, term, _ = blocks[k]
+        if term is None:
+            return [k + 1]
+        if term.op not in INSIDE:
+            return None
+        j = self.index.get(term.target)
+        return [j] if term.op == "BRANCH" else [j, self.index.get(term.next)]
+
+    def region(self, blocks, first, last):
+        """The Region of the loop first..last, or None if it cannot be one:
+        a primitive that is not a loop_op, a way in but its start or out
+        but its end, a stack depth that depends on the path taken."""
+        succ = {last: []}
+        for k in range(first, last + 1):
+            if not all(loop_op(i) for i in blocks[k][1]):
+                return None
+            if k < last:
+                succ[k] = self.successors(blocks, k)
+                if succ[k] is None or not all(j is not None and first <= j <= last for j in succ[k]):
+                    return None
+        for k, (_, _, term, _) in enumerate(blocks):
+            if not first <= k <= last and term is not None and term.target is not None \
+                    and first < self.index.get(term.target, -1) <= last:
+                return None
+        depth, after, low, todo = {first: 0}, {}, 0, [first]
+        while todo:
+            k = todo.pop()
+            d = depth[k]
+            for i in blocks[k][1]:
+                n_in, n_out = stack_effect(i)
+                low = min(low, d - n_in)
+                d += n_out - n_in
+            after[k] = d
+            n_in, _ = stack_effect(blocks[k][2])
+            low = min(low, d - n_in)
+            d -= n_in
+            for j in succ[k] if k < last else [first]:
+                if depth.setdefault(j, d) != d:
+                    return None
+                if j not in after:
+                    todo.append(j)
+        if len(after) != last - first + 1 or -low > CARRY_LIMIT:
+            return None
+        heads = {first} | {j for k in succ for j in succ[k] if j <= k}
+        uses_i = any(i.op == "simple" and i.prim.name == "I"
+                     for k in range(first, last + 1) for i in blocks[k][1])
+        return Region(first, last, {k: d - low for k, d in depth.items()},
+                      {k: d - low for k, d in after.items()},
+                      {h: self.head_span(blocks, succ, heads, h) for h in heads}, uses_i)
+
+    @staticmethod
+    def head_span(blocks, succ, heads, h):
+        """The most clock the body may spend from head h's start up to the
+        last check of a block it reaches before the next head."""
+        start, span = {h: 0}, 0
+        for k in range(h, max(succ) + 1):
+            if k not in start:
+                continue
+            ops, term = blocks[k][1], blocks[k][2]
+            pre = sum(i.cost for i in ops)
+            span = max(span, start[k] + pre)
+            for j in succ[k]:
+                if j > k and j not in heads:
+                    start[j] = max(start.get(j, 0), start[k] + pre + (term.cost if term else 0))
+        return span
+
+    def region_loop(self, r, blocks, ind):
+        """The Python while of Region r (see the module's docstring)."""
+        self.inner.update(blocks[k][0] for k in range(r.first + 1, r.last + 1))
+        cells = ["_k%d" % i for i in range(r.carry[r.first])]
+        self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
+        if cells:               # a short stack: the reference loop runs it, to its underflow
+            self.emit("if len(s) < %d:" % len(cells), ind, "s")
+            self.emit("m.clock = clk; clk = -1; return m.run_from(%d, d0)" % blocks[r.first][0],
+                      ind + 1, "d0")
+            self.emit("; ".join("%s = s.pop()" % c for c in reversed(cells)), ind)
+        if r.uses_i:
+            self.emit("_I = (_i + _lim) & 0xFFFF", ind)
+        self.emit("while True:", ind)
+        for k in range(r.first, r.last + 1):
+            self.emit("if b <= %d:   # %04X" % (k, blocks[k][0]), ind + 1)
+            self.region_block(r, k, blocks[k], ind + 2)
+        self.emit("break", ind + 1)
+        self.emit("del rs[-3:]" + push(cells), ind)
+        self.goto_next(r.last, blocks[r.last][2].next, ind)
+
+    def region_block(self, r, k, block, ind):
+        """Block k of Region r: its check (made only while _w says the
+        deadline is near), its slow path and its fast one."""
+        _, ops, term, self.next_addr = block
+        pre = sum(i.cost for i in ops)
+        tcost = term.cost if term is not None else 0
+        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
+        if k in r.heads:
+            self.emit("_w = clk + %d >= m.deadline" % r.heads[k], ind)
+        self.emit("if _w and clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
+        cells = ["_k%d" % i for i in range(r.carry[k])]
+        self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + push(cells), ind + 1, "s")
+        self.emit("slow(m, %s, %d)" % (seq, tcost) if term is not None else "slow(m, %s)" % seq,
+                  ind + 1)
+        self.clock_in(ind + 1)
+        self.carrying, self.dpl, self.vs = True, None, []
+        self.index_atom = "_I" if r.uses_i else None
+        self.vs = self.take(r.after[k], ind + 1)
+        self.region_end(r, k, term, ind + 1)
+        self.emit("else:", ind)
+        self.emit("clk += %d" % (pre + tcost), ind + 1)
+        self.vs, self.dpl, self.rs_known = list(cells), None, None
+        self.index_atom = "_I" if r.uses_i else None
+        self.open_calls, self.rs_unknown = 0, False
+        self.rest = pre + tcost
+        for i in ops:
+            self.rest -= i.cost
+            self.op_simple(i, ind + 1)
+        self.rest = 0
+        self.region_end(r, k, term, ind + 1)
+        self.carrying = False
+
+    def region_end(self, r, k, term, ind):
+        """Block k's terminator; the loop's step at its last block."""
+        if k != r.last:
+            self.terminator(term or NO_TERMINATOR, k, ind)
+            return
+        n = self.take(1, ind)[0] if term.op == "(+LOOP)" else "1"
+        self.flush(ind)
+        on = ("; _I = (_i + _lim) & 0xFFFF" if r.uses_i else "") + "; b = %d; continue" % r.first
+        if n.isdigit():
+            self.emit("if %s: _i = (_i + %s) & 0xFFFF%s" % (goes_on("_i", int(n)), n, on), ind)
+        else:
+            self.emit("_y = LOOP_STEP(_i, %s)" % n, ind)
+            self.emit("if _y is not None: _i = _y" + on, ind)
+
+    def carry_out(self, ind):
+        """Hand the cells in vs to the next block in locals _k0.. (the
+        stack from the loop's lowest point up), not to the real stack."""
+        pairs = [("_k%d" % i, v) for i, v in enumerate(self.vs) if v != "_k%d" % i]
+        if pairs:
+            self.emit("%s = %s" % (", ".join(n for n, _ in pairs), ", ".join(v for _, v in pairs)),
+                      ind)
+        self.vs = []

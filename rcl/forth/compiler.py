@@ -135,6 +135,7 @@ class Gen(BlockGen, LoopGen):
         self.consts = {}
         self.ntemp = 0
         self.uses = set()
+        self.inner = set()       # blocks inside a loop's while: no way in for LEAVE
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -284,7 +285,8 @@ class Gen(BlockGen, LoopGen):
         self.emit("PROLOGUE", 1)
         self.emit("b = 0", 1)
         self.emit("while True:", 1)
-        for k, a in enumerate(starts):
+        blocks = []
+        for a in starts:
             ops, term, ip = [], None, a
             while True:
                 ins = code[ip]
@@ -295,14 +297,22 @@ class Gen(BlockGen, LoopGen):
                 ip = ins.next
                 if ip in self.index or ip not in code:
                     break
-            self.next_addr = ip if term is None else None
+            blocks.append((a, ops, term, ip if term is None else None))
+        regions = self.find_regions(blocks, GROUP if len(starts) > GROUP else None)
+        skip = -1                            # blocks up to here went into a region's while
+        for k, (a, ops, term, self.next_addr) in enumerate(blocks):
             ind = 2
             if len(starts) > GROUP:          # a jump passes a guard per group, then per block
                 if k % GROUP == 0:
                     self.emit("if b <= %d:" % min(k + GROUP - 1, len(starts) - 1), 2)
                 ind = 3
+            if k <= skip:
+                continue
             self.emit("if b <= %d:   # %04X" % (k, a), ind)
-            if self.loopable(ops, term, a):
+            if k in regions:
+                self.region_loop(regions[k], blocks, ind + 1)
+                skip = regions[k].last
+            elif self.loopable(ops, term, a):
                 self.loop_block(k, ops, term, ind + 1)
             else:
                 self.block(k, ops, term, ind + 1)
@@ -333,7 +343,8 @@ def compile_code(m, entry):
     src, marks = gen.build()
     env = dict(gen.consts)
     env.update(HELPERS)
-    env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
+    env.update(slow=slow, FN=m.fn.get, CP=m.compile,
+               BMAP={a: k for a, k in gen.index.items() if a not in gen.inner})
     exec(compile(src, COMPILED, "exec"), env)
     for a in marks:
         m.watch[a] |= WATCH_CODE
