@@ -60,6 +60,9 @@ LOOPS = {
     "UNTIL": ": UNTIL  0 30 0 DO  I BEGIN 1- DUP 0< UNTIL DROP 1+  LOOP ;",
     # the stack below the loop's entry is worked on: cells carried in locals
     "DEEP": ": DEEP  1 2 3  40 0 DO  ROT I 5 MOD IF SWAP ELSE OVER + THEN  LOOP ;",
+    # a flag or a step that is a cell the body also hands on, moved (SWAP)
+    "FLAG": ": FLAG  0 1  40 0 DO  SWAP OVER IF 1+ ELSE 3 + THEN  LOOP ;",
+    "STEPK": ": STEPK  1 2  60 0 DO  DUP 0< IF NEGATE THEN  SWAP OVER +LOOP ;",
     "NEST": ": NEST  0 5 0 DO 6 0 DO  I J + 3 MOD IF J + ELSE I - THEN LOOP LOOP ;",
 }
 

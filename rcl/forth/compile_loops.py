@@ -53,6 +53,7 @@ that touch the return stack only as I or J.
 """
 from rcl.forth.control import LAST_INDEX, goes_on
 from rcl.forth.decode import NO_TERMINATOR, literal_template
+from rcl.forth.loop_shape import shape
 
 LOOP_RS_WORDS = ("I", "J")       # the only templates naming rs a loop body may use
 CARRY_LIMIT = 8                  # stack cells a loop of several blocks keeps in locals
@@ -114,6 +115,7 @@ class LoopGen:
     real_stack = False           # the body loaded from or wrote to the real stack
     carried_used = False         # the body took the carried top of stack
     carrying = False             # in a Region: flush hands vs on in locals (carry_out)
+    shaped = False               # the Region's blocks are laid out as loop_shape found them
 
     def loopable(self, ops, term, start):
         """Can this block run as a Python while loop?"""
@@ -304,12 +306,50 @@ class LoopGen:
         if r.uses_i:
             self.emit("_I = (_i + _lim) & 0xFFFF", ind)
         self.emit("while True:", ind)
-        for k in range(r.first, r.last + 1):
-            self.emit("if b <= %d:   # %04X" % (k, blocks[k][0]), ind + 1)
-            self.region_block(r, k, blocks[k], ind + 2)
+        jumps = {k: self.jump_of(blocks[k][2]) for k in range(r.first, r.last)}
+        nodes = shape(jumps, r.first, r.last)
+        if nodes is not None:
+            self.shaped = True
+            self.emit_shape(r, blocks, nodes + [("block", r.last)], ind + 1)
+        else:                   # jumps that cross: from block to block through guards
+            self.shaped = False
+            for k in range(r.first, r.last + 1):
+                self.emit("if b <= %d:   # %04X" % (k, blocks[k][0]), ind + 1)
+                self.region_block(r, k, blocks[k], ind + 2)
         self.emit("break", ind + 1)
         self.emit("del rs[-3:]" + push(cells), ind)
         self.goto_next(r.last, blocks[r.last][2].next, ind)
+
+    def jump_of(self, term):
+        """(op, block index) of a loop body's terminator, for loop_shape."""
+        if term is None:
+            return None, None
+        return term.op, self.index[term.target]
+
+    def emit_shape(self, r, blocks, nodes, ind):
+        """Python for loop_shape's nodes."""
+        for node in nodes:
+            kind = node[0]
+            if kind == "block":
+                self.emit("#  %04X" % blocks[node[1]][0], ind)
+                self.region_block(r, node[1], blocks[node[1]], ind)
+            elif kind == "if":
+                self.emit("if _f:", ind)
+                self.emit_shape(r, blocks, node[1], ind + 1)
+                if not node[1]:
+                    self.emit("pass", ind + 1)
+                if node[2]:
+                    self.emit("else:", ind)
+                    self.emit_shape(r, blocks, node[2], ind + 1)
+            elif kind == "unless":
+                self.emit("if not _f: %s" % node[1], ind)
+            elif kind == "stmt":
+                self.emit(node[1], ind)
+            else:
+                self.emit("while True:", ind)
+                self.emit_shape(r, blocks, node[1], ind + 1)
+                if node[1][-1] != ("stmt", "continue"):
+                    self.emit("break", ind + 1)
 
     def region_block(self, r, k, block, ind):
         """Block k of Region r: its check (made only while _w says the
@@ -344,17 +384,49 @@ class LoopGen:
         self.carrying = False
 
     def region_end(self, r, k, term, ind):
-        """Block k's terminator; the loop's step at its last block."""
-        if k != r.last:
+        """Block k's terminator; the loop's step at its last block. A flag
+        or step is named before the cells are handed on (carry_out may
+        assign the _k it is)."""
+        op = term.op if term is not None else None
+        if k == r.last:
+            self.loop_step(r, term, ind)
+        elif op == "?BRANCH":
+            self.name_flag(self.take(1, ind)[0], ind)
+            self.flush(ind)
+            if not self.shaped:           # jump if zero: ?BRANCH's rule (control.py)
+                self.branch("not _f", term.target, k, term.next, ind)
+        elif self.shaped:
+            self.flush(ind)               # (a jump's place in the shape says where it goes)
+        else:
             self.terminator(term or NO_TERMINATOR, k, ind)
-            return
+
+    def name_flag(self, f, ind):
+        """_f = the flag. A temp just computed for it is computed as _f, a
+        comparison as Python's bool (whose truth is the flag's)."""
+        line = self.lines[-1] if self.lines else ""
+        head = "    " * ind + f + " = "
+        if f.startswith("t") and line.startswith(head) and f not in self.vs:
+            value = line[len(head):]
+            if value.startswith("0xFFFF if ") and value.endswith(" else 0"):
+                value = value[len("0xFFFF if "):-len(" else 0")]
+            self.lines[-1] = "    " * ind + "_f = " + value
+        else:
+            self.emit("_f = %s" % f, ind)
+
+    def loop_step(self, r, term, ind):
+        """The (LOOP) or (+LOOP) at the body's end: go round again or fall
+        out to the while's break."""
         n = self.take(1, ind)[0] if term.op == "(+LOOP)" else "1"
+        if not n.isdigit():
+            self.emit("_n = %s" % n, ind)
+            n = "_n"
         self.flush(ind)
-        on = ("; _I = (_i + _lim) & 0xFFFF" if r.uses_i else "") + "; b = %d; continue" % r.first
+        on = ("; _I = (_i + _lim) & 0xFFFF" if r.uses_i else "") + "; " + (
+            "continue" if self.shaped else "b = %d; continue" % r.first)
         if n.isdigit():
             self.emit("if %s: _i = (_i + %s) & 0xFFFF%s" % (goes_on("_i", int(n)), n, on), ind)
         else:
-            self.emit("_y = LOOP_STEP(_i, %s)" % n, ind)
+            self.emit("_y = LOOP_STEP(_i, _n)", ind)
             self.emit("if _y is not None: _i = _y" + on, ind)
 
     def carry_out(self, ind):
