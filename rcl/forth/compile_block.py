@@ -119,6 +119,8 @@ class BlockGen:
         if tpl.stmt:
             for line in tpl.stmt.fill(atoms).split("\n"):
                 self.emit(line, ind, *tpl.stmt.uses)
+            if self.dpl_guard and "W" in tpl.stmt.uses:     # a store: see compile_loops.py
+                self.dpl_overwritten(atoms[-1], ind)
         numbers = tpl.stmt is None and all(a.isdigit() for a in atoms)
         for o in tpl.outputs:
             if o.input is not None:

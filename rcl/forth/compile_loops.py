@@ -123,10 +123,11 @@ class LoopGen:
             return False
         return all(loop_op(i) for i in ops)
 
-    def steady_dpl(self, ops):
+    def steady_dpl(self, ops, stores=False):
         """Do the body's literals all leave the same DPL and WIDE-NUMBER,
         with nothing else in it that may store to memory (so that after
-        one iteration's store the next finds them in place)?"""
+        one iteration's store the next finds them in place)? With `stores`,
+        a store template may be there: dpl_overwritten watches its address."""
         values = set()
         for i in ops:
             p = i.prim
@@ -138,7 +139,8 @@ class LoopGen:
             tpl = literal_template(i) or (p.template if i.op == "simple" else None)
             if tpl is None:
                 continue                 # var, con, const, 2con, enter, exit
-            if "compile" in p.extra or (tpl.stmt is not None and tpl.stmt.uses & {"mem", "m", "W"}):
+            writes = tpl.stmt is not None and tpl.stmt.uses & {"mem", "m", "W"}
+            if "compile" in p.extra or (writes and not (stores and "W" in tpl.stmt.uses)):
                 return False
             if any("m" in o.uses for o in tpl.outputs if o.input is None):
                 return False
@@ -173,7 +175,7 @@ class LoopGen:
         pre = sum(i.cost for i in ops)
         plus = term.op == "(+LOOP)"
         seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
-        steady = self.steady_dpl(ops)
+        steady = self.steady_dpl(ops, stores=True)
         body = self.loop_body(ops, plus, ind + 2, True, steady)
         carry = body is not None
         if not carry:
@@ -305,6 +307,10 @@ class LoopGen:
             self.emit("; ".join("%s = s.pop()" % c for c in reversed(cells)), ind)
         if r.uses_i:
             self.emit("_I = (_i + _lim) & 0xFFFF", ind)
+        self.dpl_guard = self.steady_dpl([i for k in range(r.first, r.last + 1)
+                                          for i in blocks[k][1]], stores=True)
+        if self.dpl_guard:
+            self.emit("_d = 1", ind)
         self.emit("while True:", ind)
         jumps = {k: self.jump_of(blocks[k][2]) for k in range(r.first, r.last)}
         nodes = shape(jumps, r.first, r.last)
@@ -317,6 +323,7 @@ class LoopGen:
                 self.emit("if b <= %d:   # %04X" % (k, blocks[k][0]), ind + 1)
                 self.region_block(r, k, blocks[k], ind + 2)
         self.emit("break", ind + 1)
+        self.dpl_guard = False
         self.emit("del rs[-3:]" + push(cells), ind)
         self.goto_next(r.last, blocks[r.last][2].next, ind)
 
@@ -366,6 +373,8 @@ class LoopGen:
         self.emit("slow(m, %s, %d)" % (seq, tcost) if term is not None else "slow(m, %s)" % seq,
                   ind + 1)
         self.clock_in(ind + 1)
+        if self.dpl_guard:                # (a handler may have changed DPL)
+            self.emit("_d = 1", ind + 1)
         self.carrying, self.dpl, self.vs = True, None, []
         self.index_atom = "_I" if r.uses_i else None
         self.vs = self.take(r.after[k], ind + 1)
@@ -428,6 +437,17 @@ class LoopGen:
         else:
             self.emit("_y = LOOP_STEP(_i, _n)", ind)
             self.emit("if _y is not None: _i = _y" + on, ind)
+
+    def dpl_overwritten(self, addr, ind):
+        """After a store template at addr (its last input; at most 4 bytes)
+        in a loop whose literals' DPL is steady: if it may have hit DPL or
+        WIDE-NUMBER, the next literal stores them again (_d)."""
+        cells = (self.m.a_dpl, self.m.a_wide)
+        lo, hi = min(cells) - 3, max(cells) + 1
+        if not addr.isdigit():
+            self.emit("if %d <= %s <= %d: _d = 1" % (lo, addr, hi), ind)
+        elif lo <= int(addr) <= hi:
+            self.emit("_d = 1", ind)
 
     def carry_out(self, ind):
         """Hand the cells in vs to the next block in locals _k0.. (the
