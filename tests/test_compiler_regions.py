@@ -146,3 +146,13 @@ def test_made_up_loop_bodies_run_as_the_reference_loop_runs_them(body, period):
     assert a[:5] == b[:5]
     assert a[5] == b[5]
     assert a[3] and in_a_while(m, "MADE")
+
+
+def test_a_loop_across_a_group_of_guards_in_a_long_definition_still_runs_as_a_while():
+    # 15 IF ... THENs make 30 blocks before the loop: the loop's blocks
+    # straddle the 32nd, where a new group of guards would begin.
+    for before in (14, 15, 16):
+        program = (": LONG  0 " + "DUP 1 AND IF 1+ THEN " * before +
+                   " 20 0 DO  I 3 AND IF I + ELSE 1+ THEN  LOOP  DUP 2 AND IF 1+ THEN ;")
+        m = same_both_ways(program, "LONG", PERIODS[::4])
+        assert in_a_while(m, "LONG"), before

@@ -211,16 +211,15 @@ class LoopGen:
         self.goto_next(k, term.next, ind)
 
     # ------------------------------------------- loops of several blocks
-    def find_regions(self, blocks, group):
+    def find_regions(self, blocks):
         """{first block: Region} for the DO loops of several blocks that can
-        run as a Python while (blocks: (addr, ops, terminator, next) each;
-        group: guards are grouped by this many blocks, a loop stays in one)."""
+        run as a Python while (blocks: (addr, ops, terminator, next) each)."""
         regions = {}
         for last, (_, _, term, _) in enumerate(blocks):
             if term is None or term.op not in ("(LOOP)", "(+LOOP)"):
                 continue
             first = self.index.get(term.target)
-            if first is None or first >= last or (group and first // group != last // group):
+            if first is None or first >= last:
                 continue
             r = self.region(blocks, first, last)
             if r is not None:

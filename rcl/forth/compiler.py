@@ -277,6 +277,21 @@ class Gen(BlockGen, LoopGen):
         self.uses.add("rs")
         return " or len(rs) > %d" % (RSTACK_CELLS - deepest)
 
+    @staticmethod
+    def groups(n, regions):
+        """{first block: last block} of each group of guards in a definition
+        of n blocks, if it is long; a loop's while stays in one group."""
+        if n <= GROUP:
+            return {}
+        out, k = {}, 0
+        while k < n:
+            end = min(k + GROUP, n) - 1
+            for r in regions.values():
+                if r.first <= end < r.last:
+                    end = r.last
+            out[k], k = end, end + 1
+        return out
+
     def build(self):
         code, targets = walk(self.m, self.entry)
         starts = sorted(a for a in targets if a in code)
@@ -298,13 +313,14 @@ class Gen(BlockGen, LoopGen):
                 if ip in self.index or ip not in code:
                     break
             blocks.append((a, ops, term, ip if term is None else None))
-        regions = self.find_regions(blocks, GROUP if len(starts) > GROUP else None)
+        regions = self.find_regions(blocks)
+        groups = self.groups(len(blocks), regions)
         skip = -1                            # blocks up to here went into a region's while
         for k, (a, ops, term, self.next_addr) in enumerate(blocks):
             ind = 2
-            if len(starts) > GROUP:          # a jump passes a guard per group, then per block
-                if k % GROUP == 0:
-                    self.emit("if b <= %d:" % min(k + GROUP - 1, len(starts) - 1), 2)
+            if groups:                       # a jump passes a guard per group, then per block
+                if k in groups:
+                    self.emit("if b <= %d:" % groups[k], 2)
                 ind = 3
             if k <= skip:
                 continue
