@@ -156,3 +156,28 @@ def test_a_loop_across_a_group_of_guards_in_a_long_definition_still_runs_as_a_wh
                    " 20 0 DO  I 3 AND IF I + ELSE 1+ THEN  LOOP  DUP 2 AND IF 1+ THEN ;")
         m = same_both_ways(program, "LONG", PERIODS[::4])
         assert in_a_while(m, "LONG"), before
+
+
+def test_the_loop_docstring_shows_the_python_that_source_prints():
+    from rcl.forth import compile_loops
+    from test_compiler_clarity import code_lines, in_order
+    m = rcl.Forth()
+    m.evaluate(": ODDS  0 10 0 DO  I 1 AND IF  I +  THEN  LOOP ;")
+    doc = compile_loops.__doc__
+    example = doc[doc.index(": ODDS"):doc.index("del rs[-3:]; s.append(_k0)") + 26]
+    shown = [line.strip() for line in code_lines(example)[1:]]
+    assert len(shown) > 25
+    assert in_order(shown, [line.strip() for line in code_lines(source(m, "ODDS"))])
+    assert m.evaluate("ODDS .") == "25 "
+
+
+def test_loop_shape_finds_if_else_then_and_a_begin_loop_in_the_jumps():
+    from rcl.forth import loop_shape
+    # DO  IF A ELSE B THEN  BEGIN C WHILE D REPEAT  LOOP, as the docstring has it
+    jumps = {0: ("?BRANCH", 2), 1: ("BRANCH", 3), 2: (None, None), 3: ("?BRANCH", 5),
+             4: ("BRANCH", 3)}
+    doc = loop_shape.__doc__
+    shown = doc[doc.index('    [("block", 0)'):].split("\n\n")[0]
+    assert loop_shape.shape(jumps, 0, 5) == eval(shown)
+    # jumps that cross: an IF whose THEN is inside a BEGIN loop that began in its then-part
+    assert loop_shape.shape({0: ("?BRANCH", 2), 1: (None, None), 2: ("?BRANCH", 1)}, 0, 3) is None

@@ -1,5 +1,7 @@
 """DO loops compiled as Python `while` loops: the compiler's loop half.
 
+A loop of one block
+-------------------
 A loop whose whole body is one block, ending in the (LOOP) or (+LOOP) that
 jumps back to the block's own start, such as
 
@@ -34,11 +36,13 @@ everything in locals is written back, so the primitives and any interrupt
 handler see the real stacks and clock.
 
 An RCL literal stores DPL (and WIDE-NUMBER) each time it runs. When the
-body stores the same value each iteration and writes no other memory
-(`steady_dpl`), an iteration finds those cells already holding it unless
-the slow path ran since (an interrupt handler may have changed them):
-the fast path stores only while `_d` says so, the slow path sets `_d`
-again, and memory at every point is the reference loop's:
+body's literals store the same value each iteration (`steady_dpl`), an
+iteration finds those cells already holding it unless the slow path ran
+since (an interrupt handler may have changed them) or a store of the body
+may have hit them (its address is checked against theirs,
+`dpl_overwritten`): the fast path stores only while `_d` says so, the slow
+path and such a store set `_d` again, and memory at every point is the
+reference loop's:
 
     _d = 1                                    # before the loop
         ...                                   # (the slow path ends: _d = 1)
@@ -49,63 +53,79 @@ again, and memory at every point is the reference loop's:
 
 Only bodies whose every primitive is known not to look at the loop frame
 or the clock qualify: literals, variables, constants and inline templates
-that touch the return stack only as I or J.
+that touch the return stack only as I or J (`loop_op`).
+
+A loop of several blocks
+------------------------
+A body with IF ... ELSE ... THEN or BEGIN ... UNTIL / WHILE ... REPEAT /
+AGAIN inside, whose jumps stay inside it and whose stack is as deep at
+each block whichever way it got there (loop_shape.py: `find_regions`),
+is one `while` too, its blocks in the shape of the source:
+
+    : ODDS  0 10 0 DO  I 1 AND IF  I +  THEN  LOOP ;
+
+    _lim = rs[-2]; _i = rs[-1]
+    if len(s) < 1:                            # too short: the reference loop runs it
+        m.clock = clk; clk = -1; return m.run_from(6540, d0)
+    _k0 = s.pop()                             # the cells the body works on
+    _I = (_i + _lim) & 0xFFFF                 # I, once an iteration
+    _d = 1
+    while True:
+        _w = clk + 6000000 >= m.deadline      # may a check fall due before the next head?
+        if _w and clk + 3000000 >= m.deadline:
+            m.clock = clk; clk = -1; rs[-1] = _i; s.append(_k0)
+            slow(m, SEQ1, 1000000)            # exact, as in any block
+            ...                               # then _f and _k0 from the real stack
+        else:
+            clk += 4000000
+            _f = _I & 1                       # I 1 AND: the flag ?BRANCH tests
+            if _d:
+                ...                           # the literal's DPL, as above
+        if _f:                                # IF ... THEN
+            if _w and clk + 2000000 >= m.deadline:
+                ...
+            else:
+                clk += 2000000
+                t7 = (_k0 + _I) & 0xFFFF      # I +
+                _k0 = t7                      # handed on in a local, not on s
+        if _w and clk + 0 >= m.deadline:
+            ...
+        else:
+            clk += 1000000
+            if _i != 32767: _i = (_i + 1) & 0xFFFF; _I = (_i + _lim) & 0xFFFF; continue
+        break
+    del rs[-3:]; s.append(_k0)
+
+The stack: every cell above the lowest point the body reaches lives in
+_k0, _k1, ... (deepest first) for the whole loop; a block hands its cells
+to the next by assigning them (`carry_out`), the real stack gets them
+before each slow path and when the loop ends. A ?BRANCH's flag is `_f`,
+named before the cells move (it may be one of them).
+
+The checks: each block still has its own, but it is made only while `_w`
+is true. `_w` is computed at each head (the loop's start, each BEGIN):
+false when no check up to the next head can fall due (`heads`, the most
+clock the body spends from there). Nothing between two heads is Python
+that could move the deadline, so a block whose check is skipped would have
+found it false: interrupts fall between the reference loop's primitives,
+as everywhere. A Ctrl-C from a signal handler is seen at the next head,
+within one pass of the body or of a BEGIN loop inside it; one asked for by
+an interrupt handler (in a slow path) at the next primitive, as before.
+
+A +LOOP whose step is known when compiling tests the index with
+control.goes_on instead of calling LOOP_STEP. Where loop_shape cannot find
+a shape (jumps that cross), the blocks are gone through with guards
+`if b <= k` inside the while, as in the rest of a definition.
 """
 from rcl.forth.control import LAST_INDEX, goes_on
 from rcl.forth.decode import NO_TERMINATOR, literal_template
-from rcl.forth.loop_shape import shape
-
-LOOP_RS_WORDS = ("I", "J")       # the only templates naming rs a loop body may use
-CARRY_LIMIT = 8                  # stack cells a loop of several blocks keeps in locals
-INSIDE = ("?BRANCH", "BRANCH")   # the control operations allowed inside such a loop
-
-
-def stack_effect(ins):
-    """(cells taken, cells left) on the data stack by an instruction a loop
-    body may hold (loop_op), or by a terminator."""
-    if ins is None or ins.op in (None, "BRANCH", "(LOOP)", "enter", "exit"):
-        return 0, 0
-    if ins.op in ("?BRANCH", "(+LOOP)"):
-        return 1, 0
-    if ins.op in ("var", "con", "const"):
-        return 0, 1
-    if ins.op == "2con":
-        return 0, 2
-    if ins.op == "literal":
-        return 0, len(ins.prim.extra["lit"](ins.args)[0])
-    tpl = ins.prim.template
-    return len(tpl.inputs), len(tpl.outputs)
-
-
-def loop_op(i):
-    """May instruction i be in a loop body run as a Python while? Only what
-    is known not to look at the loop frame, the clock or the real stack."""
-    p = i.prim
-    if i.op in ("var", "con", "const", "2con", "enter", "exit"):
-        return True
-    if i.op == "literal":
-        return p.extra.get("lit") is not None
-    if i.op != "simple" or p.template is None:
-        return False
-    return "rs" not in p.template.uses or p.name in LOOP_RS_WORDS
-
+from rcl.forth.loop_shape import find_regions, loop_op, shape
 
 def push(cells):
     """The statement (after "; ") that pushes cells on the real stack."""
     if len(cells) > 1:
         return "; s.extend((%s))" % ", ".join(cells)
     return "; s.append(%s)" % cells[0] if cells else ""
-
-
-class Region:
-    """A DO loop whose body is blocks first..last, as one Python while:
-    `carry[k]` stack cells are in locals _k0.. when block k starts, `after[k]`
-    when its primitives are done; at a head (the loop's start, a BEGIN's)
-    `heads[k]` is the clock the body may spend before the next head."""
-
-    def __init__(self, first, last, carry, after, heads, uses_i):
-        self.first, self.last, self.carry, self.after = first, last, carry, after
-        self.heads, self.uses_i = heads, uses_i
 
 
 class LoopGen:
@@ -210,89 +230,9 @@ class LoopGen:
         self.emit("del rs[-3:]", ind)
         self.goto_next(k, term.next, ind)
 
-    # ------------------------------------------- loops of several blocks
     def find_regions(self, blocks):
-        """{first block: Region} for the DO loops of several blocks that can
-        run as a Python while (blocks: (addr, ops, terminator, next) each)."""
-        regions = {}
-        for last, (_, _, term, _) in enumerate(blocks):
-            if term is None or term.op not in ("(LOOP)", "(+LOOP)"):
-                continue
-            first = self.index.get(term.target)
-            if first is None or first >= last:
-                continue
-            r = self.region(blocks, first, last)
-            if r is not None:
-                regions[first] = r
-        return regions
-
-    def successors(self, blocks, k):
-        """The blocks block k may go on at, or None if it may leave some other way."""
-        _, _, term, _ = blocks[k]
-        if term is None:
-            return [k + 1]
-        if term.op not in INSIDE:
-            return None
-        j = self.index.get(term.target)
-        return [j] if term.op == "BRANCH" else [j, self.index.get(term.next)]
-
-    def region(self, blocks, first, last):
-        """The Region of the loop first..last, or None if it cannot be one:
-        a primitive that is not a loop_op, a way in but its start or out
-        but its end, a stack depth that depends on the path taken."""
-        succ = {last: []}
-        for k in range(first, last + 1):
-            if not all(loop_op(i) for i in blocks[k][1]):
-                return None
-            if k < last:
-                succ[k] = self.successors(blocks, k)
-                if succ[k] is None or not all(j is not None and first <= j <= last for j in succ[k]):
-                    return None
-        for k, (_, _, term, _) in enumerate(blocks):
-            if not first <= k <= last and term is not None and term.target is not None \
-                    and first < self.index.get(term.target, -1) <= last:
-                return None
-        depth, after, low, todo = {first: 0}, {}, 0, [first]
-        while todo:
-            k = todo.pop()
-            d = depth[k]
-            for i in blocks[k][1]:
-                n_in, n_out = stack_effect(i)
-                low = min(low, d - n_in)
-                d += n_out - n_in
-            after[k] = d
-            n_in, _ = stack_effect(blocks[k][2])
-            low = min(low, d - n_in)
-            d -= n_in
-            for j in succ[k] if k < last else [first]:
-                if depth.setdefault(j, d) != d:
-                    return None
-                if j not in after:
-                    todo.append(j)
-        if len(after) != last - first + 1 or -low > CARRY_LIMIT:
-            return None
-        heads = {first} | {j for k in succ for j in succ[k] if j <= k}
-        uses_i = any(i.op == "simple" and i.prim.name == "I"
-                     for k in range(first, last + 1) for i in blocks[k][1])
-        return Region(first, last, {k: d - low for k, d in depth.items()},
-                      {k: d - low for k, d in after.items()},
-                      {h: self.head_span(blocks, succ, heads, h) for h in heads}, uses_i)
-
-    @staticmethod
-    def head_span(blocks, succ, heads, h):
-        """The most clock the body may spend from head h's start up to the
-        last check of a block it reaches before the next head."""
-        start, span = {h: 0}, 0
-        for k in range(h, max(succ) + 1):
-            if k not in start:
-                continue
-            ops, term = blocks[k][1], blocks[k][2]
-            pre = sum(i.cost for i in ops)
-            span = max(span, start[k] + pre)
-            for j in succ[k]:
-                if j > k and j not in heads:
-                    start[j] = max(start.get(j, 0), start[k] + pre + (term.cost if term else 0))
-        return span
+        """{first block: Region} for the loops of several blocks (loop_shape.py)."""
+        return find_regions(blocks, self.index)
 
     def region_loop(self, r, blocks, ind):
         """The Python while of Region r (see the module's docstring)."""
@@ -337,7 +277,7 @@ class LoopGen:
         for node in nodes:
             kind = node[0]
             if kind == "block":
-                self.emit("#  %04X" % blocks[node[1]][0], ind)
+                self.emit("# %04X" % blocks[node[1]][0], ind)
                 self.region_block(r, node[1], blocks[node[1]], ind)
             elif kind == "if":
                 self.emit("if _f:", ind)

@@ -66,8 +66,9 @@ compile time (`2 3 +` is `5`).
 Jumps: the guard `if b <= k` lets a block fall into the next one with one
 comparison. A forward jump only sets b and falls down through the guards
 (each fails until block b's); a backward jump sets b and goes round the
-`while`. In a long definition the guards are grouped by 32, so a jump
-passes at most a guard per group and 32 within its group.
+`while`. In a long definition the guards are grouped by 32 (more when a
+DO loop's `while` would straddle two groups), so a jump passes at most a
+guard per group and those within its group.
 
 Exactness: a block runs fast only if no interrupt or housekeeping falls due
 before its last primitive; otherwise `slow` runs it one primitive at a
@@ -79,9 +80,10 @@ Calls: a colon word's function is called as Python (return address pushed
 on the real return stack, checked against what EXIT returns: see inner.py).
 A small straight colon word is not called at all: decode.py pastes its
 primitives into the caller's block, between an "enter" and an "exit" that
-cost what the call and its EXIT cost. A DO loop whose body is one block
-becomes a Python `while` with the index and the clock in locals
-(compile_loops.py).
+cost what the call and its EXIT cost. A DO loop becomes a Python `while`
+with the index, the clock and the stack cells it works on in locals, when
+its body is one block or several whose jumps stay inside it, its IF ...
+THEN and BEGIN loops written as Python `if` and `while` (compile_loops.py).
 
 Locals (rcl/words/localvars.py) use the same idea for the return stack: a
 frame's cells stay Python names (`rs_known`), the frame pushed only before
