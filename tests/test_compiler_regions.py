@@ -181,3 +181,27 @@ def test_loop_shape_finds_if_else_then_and_a_begin_loop_in_the_jumps():
     assert loop_shape.shape(jumps, 0, 5) == eval(shown)
     # jumps that cross: an IF whose THEN is inside a BEGIN loop that began in its then-part
     assert loop_shape.shape({0: ("?BRANCH", 2), 1: (None, None), 2: ("?BRANCH", 1)}, 0, 3) is None
+
+
+def test_an_inlined_call_in_a_loop_of_several_blocks_overflows_the_return_stack_where_the_real_call_does():
+    program = ": SQ  DUP * ;  : W  0 5 0 DO  I 2 MOD IF  I SQ +  ELSE  1+  THEN  LOOP ;"
+    out = []
+    for compiled in (True, False):
+        m = rcl.Forth()
+        m.compiled = compiled
+        m.evaluate(program)
+        seen = []
+        for depth in range(990, 999):
+            m.rs.extend([0] * depth)
+            try:
+                m.evaluate("W")
+                seen.append(("ok", len(m.rs), m.stack))
+            except rcl.ForthError as e:
+                seen.append((e.message, m.stack))
+            del m.rs[:], m.s[:]
+            seen.append(m.clock)
+        out.append(seen)
+        if compiled:
+            assert in_a_while(m, "W")
+    assert out[0] == out[1]
+    assert any(s[0] == "ok" for s in out[0][::2]) and any(s[0] != "ok" for s in out[0][::2])
