@@ -205,3 +205,13 @@ def test_an_inlined_call_in_a_loop_of_several_blocks_overflows_the_return_stack_
             assert in_a_while(m, "W")
     assert out[0] == out[1]
     assert any(s[0] == "ok" for s in out[0][::2]) and any(s[0] != "ok" for s in out[0][::2])
+
+
+def test_a_step_known_when_compiling_ends_the_loop_where_loop_step_does():
+    from rcl.forth.control import goes_on, loop_step
+    for n in (1, 2, 3, 200, 0x7FFF, 0x8000, 0xFFFF, 0xFFFE, 0xFF38, 0):
+        on = eval("lambda _i: " + goes_on("_i", n))
+        for i in range(0, 0x10000, 7 if n not in (1, 2, 0xFFFF) else 1):
+            y = loop_step(i, n)
+            assert bool(on(i)) == (y is not None), (n, i)
+            assert y is None or y == (i + n) & 0xFFFF
