@@ -63,6 +63,9 @@ LOOPS = {
     # a flag or a step that is a cell the body also hands on, moved (SWAP)
     "FLAG": ": FLAG  0 1  40 0 DO  SWAP OVER IF 1+ ELSE 3 + THEN  LOOP ;",
     "STEPK": ": STEPK  1 2  60 0 DO  DUP 0< IF NEGATE THEN  SWAP OVER +LOOP ;",
+    # two WHILEs: jumps that cross, gone through with guards inside the while
+    "WHILES": ": WHILES  0  10 0 DO  I BEGIN DUP 7 < WHILE DUP 2 > WHILE 1+ REPEAT"
+              "  DROP 100 + ELSE DROP 1+ THEN  LOOP ;",
     "NEST": ": NEST  0 5 0 DO 6 0 DO  I J + 3 MOD IF J + ELSE I - THEN LOOP LOOP ;",
 }
 
@@ -71,6 +74,13 @@ LOOPS = {
 def test_a_loop_of_several_blocks_takes_interrupts_between_the_reference_loops_primitives(word):
     m = same_both_ways(LOOPS[word], word)
     assert in_a_while(m, word)
+
+
+def test_a_loop_whose_jumps_cross_goes_through_its_blocks_with_guards_inside_its_while():
+    m = rcl.Forth()
+    m.evaluate(LOOPS["WHILES"])
+    assert m.evaluate("WHILES .") == "307 "
+    assert "if b <= " in source(m, "WHILES").split("_w = clk", 1)[1]
 
 
 def test_a_break_asked_for_by_a_handler_stops_the_loop_where_the_reference_loop_stops():
