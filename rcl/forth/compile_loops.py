@@ -106,8 +106,9 @@ The checks: each block still has its own, but it is made only while `_w`
 is true. `_w` is computed at each head (the loop's start, each BEGIN):
 false when no check up to the next head can fall due (`heads`, the most
 clock the body spends from there). Nothing between two heads is Python
-that could move the deadline, so a block whose check is skipped would have
-found it false: interrupts fall between the reference loop's primitives,
+that could move the deadline (a store's m.watched only drops compiled code
+or a name cache: it must stay so), so a block whose check is skipped would
+have found it false: interrupts fall between the reference loop's primitives,
 as everywhere. A Ctrl-C from a signal handler is seen at the next head,
 within one pass of the body or of a BEGIN loop inside it; one asked for by
 an interrupt handler (in a slow path) at the next primitive, as before.
