@@ -43,11 +43,16 @@ PROGRAMS = {
     "NEST": ": NEST  0 10 0 DO  30 0 DO  I J * 3 + +  LOOP  LOOP ;",
     "TWO": ": TWO  0 200 0 DO  I 2 + 3 + +  LOOP ;",                 # two literals, one value
     # bodies where the store must be done every iteration: two values
-    # stored (0 before DPL @, -1 at the end), a store through an address
-    # only known at run time (here DPL's), a store into DPL itself
+    # stored (0 before DPL @, -1 at the end); and bodies where a store may
+    # hit DPL: an address only known at run time (here DPL's), DPL itself
     "DOUBLE": ": DOUBLE  0 200 0 DO  1. DROP DPL @ + + 5 +  LOOP ;",
     "STORES": "VARIABLE P  DPL P !  : STORES  0 200 0 DO  P @ @ +  I P @ !  7 +  LOOP ;",
     "HITDPL": ": HITDPL  0 200 0 DO  DPL @ +  I 9 + DPL !  3 +  LOOP ;",
+    # loops of several blocks: a store through a run-time address in one
+    # branch, a store into DPL in one branch
+    "SIEVE": "CREATE F 64 ALLOT  : SIEVE  0 60 0 DO  I 3 MOD IF  0 F I + C! 1+"
+             "  ELSE  DPL @ + 7 +  THEN  LOOP ;",
+    "HITS": ": HITS  0 100 0 DO  I 7 AND IF  5 +  ELSE  I DPL !  THEN  DPL @ + 3 +  LOOP ;",
 }
 
 
@@ -59,6 +64,7 @@ def test_every_observer_of_dpl_sees_what_the_reference_loop_shows(word):
         assert a[4] == b[4], (word, period, "memory differs")
         assert a[3], "the interrupt source fired"
     assert "while True:\n" in source(m, word).split("while True:", 1)[1]
+    assert "if _d:" in source(m, word) or word == "DOUBLE"
 
 
 def test_a_loop_whose_literals_leave_one_dpl_stores_it_once_until_the_slow_path_runs():
@@ -70,11 +76,21 @@ def test_a_loop_whose_literals_leave_one_dpl_stores_it_once_until_the_slow_path_
     assert body.count("mem[%d] = 255" % m.a_dpl) == 1
 
 
-@pytest.mark.parametrize("word", ["DOUBLE", "STORES", "HITDPL"])
-def test_a_loop_that_may_change_dpl_itself_stores_it_every_iteration(word):
+def test_a_loop_whose_literals_leave_two_dpls_stores_them_every_iteration():
     m = rcl.Forth()
-    m.evaluate(PROGRAMS[word])
-    assert "if _d:" not in source(m, word)
+    m.evaluate(PROGRAMS["DOUBLE"])
+    assert "if _d:" not in source(m, "DOUBLE")
+
+
+def test_a_store_that_may_hit_dpl_makes_the_next_literal_store_it_again():
+    m = rcl.Forth()
+    m.evaluate(PROGRAMS["STORES"] + "  " + PROGRAMS["HITDPL"] + "  " + PROGRAMS["SIEVE"])
+    lo, hi = min(m.a_dpl, m.a_wide) - 3, max(m.a_dpl, m.a_wide) + 1
+    assert "if %d <= t" % lo in source(m, "STORES")             # an address known at run time
+    assert "if %d <= t" % lo in source(m, "SIEVE")              # (a loop of several blocks)
+    hit = source(m, "HITDPL")                                   # DPL's own address
+    assert "if _d:" in hit and "_d = 1\n" in hit.split("m.watched(%d)" % m.a_dpl)[1]
+    assert lo <= m.a_dpl <= hi
 
 
 def test_the_handler_saw_the_loops_dpl_and_its_own():

@@ -203,10 +203,14 @@ def test_an_inlined_call_after_code_that_grows_the_return_stack_overflows_where_
 
 def test_a_branch_on_a_comparison_tests_it_and_a_flag_used_again_is_still_made():
     program = (": ONCE  0 40 0 DO  I 7 MOD 3 < IF 1+ ELSE 2 + THEN  LOOP ;"
-               "  : TWICE  0 40 0 DO  I 7 MOD 3 < DUP IF - ELSE + THEN  LOOP ;")
+               "  : TWICE  0 40 0 DO  I 7 MOD 3 < DUP IF - ELSE + THEN  LOOP ;"
+               "  : SMALL?  ( n -- n' )  DUP 3 < IF 1+ THEN ;"
+               "  : LOOPED  0 40 0 DO  I SMALL? +  LOOP ;")
     m = rcl.Forth()
     m.evaluate(program)
-    assert "0xFFFF if" not in source(m, "ONCE") and "if not (" in source(m, "ONCE")
+    # a loop of several blocks names the comparison _f; a block tests it
+    assert "0xFFFF if" not in source(m, "ONCE") and "_f = ((" in source(m, "ONCE")
+    assert "0xFFFF if" not in source(m, "SMALL?") and "if not ((" in source(m, "SMALL?")
     assert "0xFFFF if" in source(m, "TWICE")
-    for word in ("ONCE", "TWICE"):
+    for word in ("ONCE", "TWICE", "LOOPED"):
         same_both_ways(program, word, PERIODS)

@@ -114,6 +114,8 @@ class BlockGen:
         last, self.last_pop = self.last_pop, None
         for a in self.vs:
             self.handed[a] = self.handed.get(a, 0) + 1
+        if self.carrying:                          # inside a loop of several blocks
+            return self.carry_out(ind)             # (compile_loops.py)
         if self.vs:
             self.real_stack = True
         if rewrite and last is not None and last[3] == ind and self.vs:
@@ -151,6 +153,8 @@ class BlockGen:
         if tpl.stmt:
             for line in tpl.stmt.fill(atoms).split("\n"):
                 self.emit(line, ind, *tpl.stmt.uses)
+            if self.dpl_guard and "W" in tpl.stmt.uses:     # a store: see compile_loops.py
+                self.dpl_overwritten(atoms[-1], ind)
         numbers = tpl.stmt is None and all(a.isdigit() for a in atoms)
         for o in tpl.outputs:
             if o.input is not None:
@@ -228,17 +232,23 @@ class BlockGen:
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
             self.clock_in(ind)
 
-    def branch_test(self, f):
-        """The condition under which a branch on flag atom f is taken
-        (?BRANCH: when f is 0). When f is a comparison's flag that nothing
-        else uses, its line goes and the branch tests the comparison:
-        `t3 = 0xFFFF if X else 0 ... if t3 == 0:` becomes `if not (X):`."""
+    def truth(self, f):
+        """A Python expression true when flag atom f is not 0. When f is a
+        comparison's flag that nothing else uses, its line goes and the
+        expression is the comparison itself (`t3 = 0xFFFF if X else 0` is
+        never made; the atoms X names are values, so X may move down)."""
         made = self.flags.get(f)
         if made is None or self.handed.get(f) != 1:
-            return "%s == 0" % f
+            return f
         lines, i, test = made
         lines[i] = None                          # (build drops it)
-        return "not (%s)" % test
+        return "(%s)" % test
+
+    def branch_test(self, f):
+        """The condition under which ?BRANCH on flag atom f jumps (f is 0):
+        `if t3 == 0:`, or for a comparison's flag `if not (X):`."""
+        t = self.truth(f)
+        return "%s == 0" % f if t == f else "not " + t
 
     def fetched_xt(self, x):
         """What the cell atom x was fetched from holds now (`VEC @ EXECUTE`:

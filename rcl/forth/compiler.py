@@ -67,8 +67,9 @@ compile time (`2 3 +` is `5`).
 Jumps: the guard `if b <= k` lets a block fall into the next one with one
 comparison. A forward jump only sets b and falls down through the guards
 (each fails until block b's); a backward jump sets b and goes round the
-`while`. In a long definition the guards are grouped by 32, so a jump
-passes at most a guard per group and 32 within its group.
+`while`. In a long definition the guards are grouped by 32 (more when a
+DO loop's `while` would straddle two groups), so a jump passes at most a
+guard per group and those within its group.
 
 Exactness: a block runs fast only if no interrupt or housekeeping falls due
 before its last primitive; otherwise `slow` runs it one primitive at a
@@ -83,9 +84,10 @@ compares the xt with the colon word the cell held at compile time and
 calls that body's function directly while it stands (`dynamic_call`); any
 other xt goes through m.call. A small straight colon word is not called at all: decode.py pastes its
 primitives into the caller's block, between an "enter" and an "exit" that
-cost what the call and its EXIT cost. A DO loop whose body is one block
-becomes a Python `while` with the index and the clock in locals
-(compile_loops.py).
+cost what the call and its EXIT cost. A DO loop becomes a Python `while`
+with the index, the clock and the stack cells it works on in locals, when
+its body is one block or several whose jumps stay inside it, its IF ...
+THEN and BEGIN loops written as Python `if` and `while` (compile_loops.py).
 
 Locals (rcl/words/localvars.py) use the same idea for the return stack: a
 frame's cells stay Python names (`rs_known`), the frame pushed only before
@@ -143,6 +145,7 @@ class Gen(BlockGen, LoopGen):
         self.uses = set()
         self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
         self.docol_checked = False   # the block's check covered its call's (DOCOL) (block)
+        self.inner = set()           # blocks inside a loop's while: no way in for LEAVE
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -316,6 +319,21 @@ class Gen(BlockGen, LoopGen):
         self.uses.add("rs")
         return " or len(rs) > %d" % (RSTACK_CELLS - deepest)
 
+    @staticmethod
+    def groups(n, regions):
+        """{first block: last block} of each group of guards in a definition
+        of n blocks, if it is long; a loop's while stays in one group."""
+        if n <= GROUP:
+            return {}
+        out, k = {}, 0
+        while k < n:
+            end = min(k + GROUP, n) - 1
+            for r in regions.values():
+                if r.first <= end < r.last:
+                    end = r.last
+            out[k], k = end, end + 1
+        return out
+
     def build(self):
         code, targets = walk(self.m, self.entry)
         starts = sorted(a for a in targets if a in code)
@@ -324,7 +342,8 @@ class Gen(BlockGen, LoopGen):
         self.emit("PROLOGUE", 1)
         self.emit("b = 0", 1)
         self.emit("while True:", 1)
-        for k, a in enumerate(starts):
+        blocks = []
+        for a in starts:
             ops, term, ip = [], None, a
             while True:
                 ins = code[ip]
@@ -335,14 +354,23 @@ class Gen(BlockGen, LoopGen):
                 ip = ins.next
                 if ip in self.index or ip not in code:
                     break
-            self.next_addr = ip if term is None else None
+            blocks.append((a, ops, term, ip if term is None else None))
+        regions = self.find_regions(blocks)
+        groups = self.groups(len(blocks), regions)
+        skip = -1                            # blocks up to here went into a region's while
+        for k, (a, ops, term, self.next_addr) in enumerate(blocks):
             ind = 2
-            if len(starts) > GROUP:          # a jump passes a guard per group, then per block
-                if k % GROUP == 0:
-                    self.emit("if b <= %d:" % min(k + GROUP - 1, len(starts) - 1), 2)
+            if groups:                       # a jump passes a guard per group, then per block
+                if k in groups:
+                    self.emit("if b <= %d:" % groups[k], 2)
                 ind = 3
+            if k <= skip:
+                continue
             self.emit("if b <= %d:   # %04X" % (k, a), ind)
-            if self.loopable(ops, term, a):
+            if k in regions:
+                self.region_loop(regions[k], blocks, ind + 1)
+                skip = regions[k].last
+            elif self.loopable(ops, term, a):
                 self.loop_block(k, ops, term, ind + 1)
             else:
                 self.block(k, ops, term, ind + 1)
@@ -375,7 +403,8 @@ def compile_code(m, entry):
     env = types.ModuleType(COMPILED).__dict__   # (PyPy's JIT reads a module's
     env.update(gen.consts)                      # globals as constants, a dict's not)
     env.update(HELPERS)
-    env.update(slow=slow, FN=m.fn.get, CP=m.compile, BMAP=gen.index)
+    env.update(slow=slow, FN=m.fn.get, CP=m.compile,
+               BMAP={a: k for a, k in gen.index.items() if a not in gen.inner})
     exec(compile(src, COMPILED, "exec"), env)
     for a in marks:
         m.watch[a] |= WATCH_CODE

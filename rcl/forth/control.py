@@ -22,7 +22,8 @@ F83's DO-loop frame, drawn once (three cells on the return stack):
 
 The loop ends when adding the step to index' overflows a signed cell: the
 index crossed the boundary between limit-1 and limit, from either side.
-`do_frame` and `loop_step` are the only places that arithmetic is written.
+`do_frame` and `loop_step` are the only places that arithmetic is written
+(`goes_on` spells loop_step out for a step known when compiling).
 """
 from dataclasses import dataclass
 
@@ -42,6 +43,18 @@ def loop_step(index, n):
     """The index' after a step of n, or None when the loop ends."""
     y = ((index ^ 0x8000) - 0x8000) + ((n ^ 0x8000) - 0x8000)
     return y & MASK if -0x8000 <= y <= 0x7FFF else None
+
+
+def goes_on(index, n):
+    """Python text true when a step of n, known when compiling, from the
+    index' named `index` does not end the loop (loop_step's rule spelt out;
+    the new index' is then (index + n) & 0xFFFF)."""
+    n = (n ^ 0x8000) - 0x8000
+    if n == 1:
+        return "%s != %d" % (index, LAST_INDEX)
+    if n >= 0:                   # ends when a non-negative index' passes 0x7FFF
+        return "%s >= 0x8000 or %s <= %d" % (index, index, 0x7FFF - n)
+    return "%s < 0x8000 or %s >= %d" % (index, index, 0x8000 - n)
 
 
 HELPERS.update(DO_FRAME=do_frame, LOOP_STEP=loop_step)
