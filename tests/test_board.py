@@ -4,6 +4,8 @@ import io
 import pathlib
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rcl
 from rcl.forth.primitives import CLOCK_HZ
@@ -283,3 +285,31 @@ def test_a_stretch_of_accelerating_milliseconds_brought_up_at_once_equals_one_at
                 [c.value for chip in b.chips.values() for c in chip.counters[1:]])
     assert state(at_once) == state(one_by_one)
     assert at_once.drive.left.forward_counts + at_once.drive.left.reverse_counts > 5
+
+
+def board_state(b):
+    """Everything the physics decides, to the last bit."""
+    d = b.drive
+    return ([(w.rate, w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],
+            (d.robot.x, d.robot.y, d.robot.heading_rad),
+            [c.value for chip in b.chips.values() for c in chip.counters[1:]])
+
+
+@settings(max_examples=40, deadline=None, derandomize=True, database=None)
+@given(relays=st.sampled_from([BOTH_FORWARD, SPIN_CW]), count=st.sampled_from([50, 125, 200]),
+       cuts=st.lists(st.integers(1, 1499), max_size=30))
+def test_the_physics_brought_up_at_any_moments_equals_it_brought_up_at_once(relays, count, cuts):
+    # a ramp, then a steady stretch: a port access may come at any millisecond
+    boards = []
+    for _ in range(2):
+        m = rcl.open(screens=False)
+        m.evaluate(LAYER)
+        drive(m, relays, count)
+        boards.append(m.sim.board)
+    at_once, cut = boards
+    start = at_once.physics_ms
+    at_once.physics_to(start + 1500)
+    for ms in sorted(set(cuts)) + [1500]:
+        cut.physics_to(start + ms)
+    assert at_once.drive.steady(at_once.motor_latch, at_once.aux_latch, *at_once.refs)
+    assert board_state(cut) == board_state(at_once)

@@ -218,10 +218,12 @@ class SimBoard(Board):
 
     def physics_to(self, target):
         """Physics up to millisecond `target`: jumped over while nothing
-        moves, in closed form at steady speed, else 1 ms at a time. The
-        stepped milliseconds' pulses reach the 8253s together at the end:
-        nothing reads a counter in between, and n CLKs at once count as n
-        one at a time (as `cruise` relies on too)."""
+        moves, in closed form at steady speed (motors.Stretch: the same
+        bits however the stretch is cut), else 1 ms at a time. The stepped
+        milliseconds' pulses reach the 8253s together at the end: nothing
+        reads a counter in between, and n CLKs at once count as n one at a
+        time. So the moments at which the physics is brought up change
+        nothing."""
         drive, latch, aux = self.drive, self.motor_latch, self.aux_latch
         left, right = drive.left, drive.right
         f_left, f_right = self.refs

@@ -38,7 +38,10 @@ rest (static friction equals the drag).
 Not modelled: motor electrical dynamics, PLL phase (only speed is locked),
 wheel slip, relay bounce, 8253 reference changes within a sub-step, battery
 voltage. A decaying or converging rate within 1e-6 counts/s of its target is
-snapped to it, so a wheel at rest or at steady speed takes the fast path.
+snapped to it, so a wheel at rest or at steady speed takes the fast path:
+while both wheels hold their rates (a Stretch), the wheels' counts and the
+pose are a closed form of the time since the stretch began, computed at
+once for any number of sub-steps (Drive.cruise).
 """
 import math
 
@@ -178,15 +181,25 @@ class Wheel:
             return self.rate == (-f_ref if rev else f_ref)
         return self.rate == 0.0
 
-    def cruise(self, n, go, dt=C.SUB_STEP_S):
-        """n steps at the present, steady rate at once: (fwd, rev) pulses."""
+    def glide(self, start, k, go):
+        """Where a steady stretch (see Stretch) leaves this wheel k sub-steps
+        after its `start` (pos_frac, forward and reverse counts, counts per
+        sub-step); -> the (fwd, rev) pulses that are new since the last
+        call. The whole counts of pos_frac + k * travel are delivered,
+        truncated toward zero as `_advance` truncates them."""
+        frac0, fwd0, rev0, per_step = start
         self.go = go
-        if not self.rate:
-            self.travel = 0.0
-            return NO_PULSES
-        pulses = self._advance(self.rate * dt * n)
-        self.travel = self.rate * dt
-        return pulses
+        self.travel = per_step
+        frac = frac0 + per_step * k
+        whole = int(frac)
+        self.pos_frac = frac - whole
+        if whole > 0:
+            n, self.forward_counts = fwd0 + whole - self.forward_counts, fwd0 + whole
+            return (n, 0) if n else NO_PULSES
+        if whole < 0:
+            n, self.reverse_counts = rev0 - whole - self.reverse_counts, rev0 - whole
+            return (0, n) if n else NO_PULSES
+        return NO_PULSES
 
     def locked(self, f_ref):
         """PLL lock: GO set and |rate| within 5 % of f_ref."""
@@ -360,19 +373,26 @@ class Robot:
         self._cos = math.cos(self.heading_rad)
         self._sin = math.sin(self.heading_rad)
 
-    def arc(self, s_left, s_right):
-        """Move along the exact arc (or line) of the wheels' travel, inches."""
+    @property
+    def start(self):
+        """The pose as `arc` starts from: (x, y, heading_rad, cos, sin)."""
+        return (self.x, self.y, self.heading_rad, self._cos, self._sin)
+
+    def arc(self, start, s_left, s_right):
+        """Stand where the exact arc (or line) of the wheels' travel, inches,
+        ends when it begins at `start` (see `start`)."""
+        x, y, heading, cos, sin = start
         ds = (s_left + s_right) * 0.5
         if s_left == s_right:
-            self.x += ds * self._cos
-            self.y += ds * self._sin
+            self.x, self.y = x + ds * cos, y + ds * sin
+            self.heading_rad, self._cos, self._sin = heading, cos, sin
             return
         turn = (s_right - s_left) / self.TRACK_IN
         chord = ds * math.sin(turn / 2) / (turn / 2)
-        mid = self.heading_rad + turn * 0.5
-        self.x += chord * math.cos(mid)
-        self.y += chord * math.sin(mid)
-        self.heading = math.degrees(self.heading_rad + turn)
+        mid = heading + turn * 0.5
+        self.x, self.y = x + chord * math.cos(mid), y + chord * math.sin(mid)
+        self.heading_rad = heading = heading + turn
+        self._cos, self._sin = math.cos(heading), math.sin(heading)
 
     def move(self, s_left, s_right):
         """Apply one sub-step of wheel travel in inches (forward positive)."""
@@ -388,6 +408,32 @@ class Robot:
         self.heading_rad += turn
         self._cos = math.cos(self.heading_rad)
         self._sin = math.sin(self.heading_rad)
+
+
+# ---------------------------------------------------------------------------
+# STEADY STRETCHES: the state a closed form of the time
+# ---------------------------------------------------------------------------
+
+class Stretch:
+    """A run of sub-steps in which both wheels hold their rates (Drive.cruise).
+
+    k sub-steps after it began, wheel w has travelled v_w * k counts
+    (v_w = rate_w * dt, one multiplication, not k additions) and the robot
+    stands at the end of the exact arc of those travels from the pose the
+    stretch began at. The state after k sub-steps is therefore one value,
+    however the k were cut into calls: the board may bring the physics up
+    to the clock at whatever moments it likes (every port access, or only
+    those the physics must see) and gets the same bits, and cruising k
+    sub-steps one at a time equals cruising them at once, by construction.
+    """
+
+    def __init__(self, drive, dt):
+        self.dt = dt
+        self.steps = 0
+        self.wheels = tuple((w.pos_frac, w.forward_counts, w.reverse_counts, w.rate * dt)
+                            for w in (drive.left, drive.right))
+        self.pose = drive.robot.start
+        self.left_at = None
 
 
 # ---------------------------------------------------------------------------
@@ -413,6 +459,7 @@ class Drive:
         self.beeper = False
         self.beeper_s = 0.0
         self.charger = False
+        self.stretch = None          # the steady stretch under way, if any
 
     def step(self, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """One sub-step; return ((fwd, rev) left pulses, (fwd, rev) right pulses)."""
@@ -435,15 +482,28 @@ class Drive:
                 and self.right.steady(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right))
 
     def cruise(self, n, motor_byte, dt=C.SUB_STEP_S):
-        """n sub-steps of steady wheels in closed form (see `steady`): the
-        same pulses and, along the exact arc, the same pose as n steps."""
-        lp = self.left.cruise(n, motor_byte & C.M1_GO, dt)
-        rp = self.right.cruise(n, motor_byte & C.M2_GO, dt)
-        tl, tr = self.left.rate * dt * n, self.right.rate * dt * n
-        if tl or tr:
-            cpi = self.COUNTS_PER_INCH
-            self.robot.arc(tl / cpi, tr / cpi)
+        """n sub-steps of steady wheels (see `steady`) at once: the stretch
+        they belong to goes on, or a new one begins here (see Stretch)."""
+        s = self.stretch
+        if s is None or s.dt != dt or s.left_at != self._where():
+            s = self.stretch = Stretch(self, dt)
+        s.steps += n
+        k = s.steps
+        (lstart, rstart), cpi = s.wheels, self.COUNTS_PER_INCH
+        lp = self.left.glide(lstart, k, motor_byte & C.M1_GO)
+        rp = self.right.glide(rstart, k, motor_byte & C.M2_GO)
+        if lstart[3] or rstart[3]:
+            self.robot.arc(s.pose, lstart[3] * k / cpi, rstart[3] * k / cpi)
+        s.left_at = self._where()
         return lp, rp
+
+    def _where(self):
+        """All a stretch carries on from: if anything else moved the wheels
+        or the robot since (a step, a test, `Sim.place`), a new one begins."""
+        left, right, r = self.left, self.right, self.robot
+        return (left.rate, left.pos_frac, left.forward_counts, left.reverse_counts,
+                right.rate, right.pos_frac, right.forward_counts, right.reverse_counts,
+                r.x, r.y, r.heading_rad)
 
     def _step_aux(self, aux_byte, dt):
         self.lift.step(aux_byte, dt)
