@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rcl
+import rcl.sim.board
 from rcl.forth.primitives import CLOCK_HZ
 from rcl.sim.observe import Trace
 from rcl.sim.pace import Pacer
@@ -313,3 +314,32 @@ def test_the_physics_brought_up_at_any_moments_equals_it_brought_up_at_once(rela
         cut.physics_to(start + ms)
     assert at_once.drive.steady(at_once.motor_latch, at_once.aux_latch, *at_once.refs)
     assert board_state(cut) == board_state(at_once)
+
+
+class EagerBoard(rcl.sim.board.SimBoard):
+    """The physics brought up at every port access, whatever it is."""
+
+    def out8(self, port, byte):
+        self.sync()
+        super().out8(port, byte)
+
+    def in8(self, port):
+        self.sync()
+        return super().in8(port)
+
+    def port_script(self, ops):
+        self.sync()
+        return super().port_script(ops)
+
+
+def test_the_board_that_brings_its_physics_up_only_when_it_must_ends_on_the_same_bits():
+    # RCL's control word writes both speed counts every tick, most of them
+    # the same again: such writes and latched reads leave the physics alone
+    words = ".1 G RERB 25.5 IPS  3.5 FEET FORWARD 90 DEGREES LEFT  1 FEET BACKWARD"
+    lazy, eager = rcl.open(board=rcl.sim.board.SimBoard()), rcl.open(board=EagerBoard())
+    for m in (lazy, eager):
+        m.evaluate(words)
+        m.sim.board.sync()
+    assert lazy.clock == eager.clock and lazy.sim.ticks == eager.sim.ticks
+    assert board_state(lazy.sim.board) == board_state(eager.sim.board)
+    assert lazy.sim.board.drive.left.forward_counts > 1000

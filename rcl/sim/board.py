@@ -17,10 +17,16 @@ driven by the Forth machine's virtual clock.
     0x10000     the Forth machine's 64 KiB (segment FORTH_CS = 0x1000)
     elsewhere   reads 0xFF
 
-Time is lazy: chips and physics are brought up to `machine.clock` when a
-port is touched or an interrupt is serviced. Physics runs in 1 ms
-sub-steps (10 per RCL tick) and jumps straight over stretches in which
-nothing moves.
+Time is lazy: each chip is brought up to `machine.clock` when it is
+touched, and the physics when an interrupt is serviced or a port access
+must see it or changes what it sees: a new speed reference, a relay, an
+encoder counter latched or read unlatched, STATUS. A write that changes
+nothing the physics sees (a count's first byte, the same count again, the
+same relays) and a read of a latched counter cost no physics at all.
+Physics runs in 1 ms sub-steps (10 per RCL tick) and jumps straight over
+stretches in which nothing moves, or in which the wheels hold their rates
+(their state a closed form of the time, motors.Stretch); so when it is
+brought up changes no bit of it.
 
 The simulated BIOS (Python, not Forth) is the type-8 handler: it adds one
 to the 32-bit tick count, wraps it at the ticks-per-day value (1,573,040 at
@@ -116,7 +122,7 @@ class SimBoard(Board):
 
     # ------------------------------------------------------------- ports
     def out8(self, port, byte):
-        self._out8(port, byte, self.sync())
+        self._out8(port, byte, self.machine.clock)
 
     def _out8(self, port, byte, now):
         if self.port_log is not None:
@@ -129,26 +135,37 @@ class SimBoard(Board):
             if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
                 self._clock_ref(base, now)
                 if chip.write(a, byte) or a == 3:   # a new count or mode: a new speed reference?
-                    self.refs = self.references()
-            elif a == 3:
-                chip.write_control(byte)
-            else:
-                chip.counters[a].write(byte)
+                    refs = self.references()
+                    if refs != self.refs:       # the physics up to now at the old speeds
+                        self.sync_to(now)
+                        self.refs = refs
+            else:                               # counters 1 and 2: their pulses up to now first
+                self.sync_to(now)
+                if a == 3:
+                    chip.write_control(byte)
+                else:
+                    chip.counters[a].write(byte)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
             self._pcb_write(port & 0xFE, word, now)
 
     def in8(self, port):
-        return self._in8(port, self.sync())
+        return self._in8(port, self.machine.clock)
 
     def _in8(self, port, now):
         if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
             base, a = port & ~3, port & 3
+            if a == 3:
+                return I8253.CONTROL_READ
+            counter = self.chips[base].counters[a]
             if a == 0:
                 self._clock_ref(base, now)
-            return self.chips[base].counters[a].read() if a != 3 else I8253.CONTROL_READ
+            elif not counter.latched:           # CE itself: the pulses up to now
+                self.sync_to(now)
+            return counter.read()
         if port == C.STATUS_PORT:
+            self.sync_to(now)
             return self.drive.status_byte(*self.refs)
         if port >= C.PCB_BASE:
             word = self.pcb.read16(port & 0xFE, self.pcb_time(now))
@@ -157,7 +174,7 @@ class SimBoard(Board):
 
     def out16(self, port, word):
         if port >= C.PCB_BASE:            # the PCB takes whole words
-            now = self.sync()
+            now = self.machine.clock
             if self.port_log is not None:
                 self.port_log.append((now, port, word))
             self._pcb_write(port & 0xFFFE, word, now)
@@ -166,12 +183,12 @@ class SimBoard(Board):
 
     def in16(self, port):
         if port >= C.PCB_BASE:
-            return self.pcb.read16(port & 0xFE, self.pcb_time(self.sync()))
+            return self.pcb.read16(port & 0xFE, self.pcb_time(self.machine.clock))
         return super().in16(port)
 
     def port_script(self, ops):
-        """The ops at one moment: one sync, then each as out8/in8 would."""
-        now, reads = self.sync(), []
+        """The ops at one moment, each as out8/in8 would do it then."""
+        now, reads = self.machine.clock, []
         for op, port, value in ops:
             if op == OUT8:
                 self._out8(port, value, now)
@@ -184,6 +201,8 @@ class SimBoard(Board):
         self.refresh_due()                # the next interrupt may have moved
 
     def _latch(self, port, byte, now):
+        if byte != (self.motor_latch if port == C.MOTOR_PORT else self.aux_latch):
+            self.sync_to(now)                   # the physics up to now on the old relays
         if port == C.MOTOR_PORT:
             self.motor_latch = byte
         else:
@@ -210,11 +229,15 @@ class SimBoard(Board):
     def sync(self):
         """Bring the physics up to the machine's clock; -> the clock."""
         now = self.machine.clock
+        self.sync_to(now)
+        return now
+
+    def sync_to(self, now):
+        """Bring the physics up to clock `now` (the last whole millisecond)."""
         target = now // MS
         if self.physics_ms < target:      # else already there (most port accesses)
             self.physics_to(target)
         self.clock = now
-        return now
 
     def physics_to(self, target):
         """Physics up to millisecond `target`: jumped over while nothing
@@ -312,6 +335,8 @@ class SimBoard(Board):
         self.due = nxt
         if nxt is not None and nxt < m.clock:
             self.overruns += 1
+        if self.observers:
+            self.sync()                   # they see the robot at the handler's end
         for observe in self.observers:
             observe(self)
         if self.pacer is not None:
@@ -428,7 +453,10 @@ class SimBoard(Board):
         return Trace(self, file, keep=True)
 
     def stop_motors(self):
-        """Safe state: every relay open (wheels braked, arm and gripper off)."""
+        """Safe state: every relay open (wheels braked, arm and gripper off),
+        from now: the physics runs up to now on the relays as they were."""
+        if self.machine is not None:
+            self.sync()
         self.motor_latch = 0
         self.aux_latch &= ~(C.ARM_ON | C.GRIP_ON | C.BEEPER)
 
