@@ -36,6 +36,7 @@ INT 1Ch pointing into the Forth segment runs that Forth word; anything
 else is taken as the power-on IRET.
 """
 import collections
+import functools
 import struct
 
 from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
@@ -78,6 +79,7 @@ class SimBoard(Board):
         self.quiet = False                # INT 1Ch skipped (skip_to_tick)
         self.handler_cost = None          # clock units the last INT 1Ch handler took
         self.due = None                   # the next interrupt (refresh_due)
+        self.writers, self.readers = self._port_map()
         self._power_on_bios()
 
     def attach(self, machine):
@@ -121,30 +123,34 @@ class SimBoard(Board):
             self.machine.memory.cstore(a - LOW_RAM, byte)
 
     # ------------------------------------------------------------- ports
+    def _port_map(self):
+        """The board's port decoding, once: port -> what a write of a byte
+        does (byte, now) and what a read gives (now). The PCB's 256 ports
+        are decoded apart; any other port floats."""
+        writers, readers = {}, {}
+        for base, chip in self.chips.items():
+            ref, fwd, rev = chip.counters
+            writers[base] = functools.partial(self._write_reference, base)
+            writers[base + 3] = functools.partial(self._write_control, base)
+            readers[base] = functools.partial(self._read_reference, base)
+            readers[base + 3] = self._read_control
+            for offset, counter in ((1, fwd), (2, rev)):
+                writers[base + offset] = functools.partial(self._write_encoder, counter)
+                readers[base + offset] = functools.partial(self._read_encoder, counter)
+        writers[C.MOTOR_PORT] = functools.partial(self._latch, C.MOTOR_PORT)
+        writers[C.AUX_PORT] = functools.partial(self._latch, C.AUX_PORT)
+        readers[C.STATUS_PORT] = self._read_status
+        return writers, readers
+
     def out8(self, port, byte):
         self._out8(port, byte, self.machine.clock)
 
     def _out8(self, port, byte, now):
         if self.port_log is not None:
             self.port_log.append((now, port, byte))
-        if port in (C.MOTOR_PORT, C.AUX_PORT):
-            self._latch(port, byte, now)
-        elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base, a = port & ~3, port & 3
-            chip = self.chips[base]
-            if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
-                self._clock_ref(base, now)
-                if chip.write(a, byte) or a == 3:   # a new count or mode: a new speed reference?
-                    refs = self.references()
-                    if refs != self.refs:       # the physics up to now at the old speeds
-                        self.sync_to(now)
-                        self.refs = refs
-            else:                               # counters 1 and 2: their pulses up to now first
-                self.sync_to(now)
-                if a == 3:
-                    chip.write_control(byte)
-                else:
-                    chip.counters[a].write(byte)
+        write = self.writers.get(port)
+        if write is not None:
+            write(byte, now)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
@@ -154,23 +160,54 @@ class SimBoard(Board):
         return self._in8(port, self.machine.clock)
 
     def _in8(self, port, now):
-        if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base, a = port & ~3, port & 3
-            if a == 3:
-                return I8253.CONTROL_READ
-            counter = self.chips[base].counters[a]
-            if a == 0:
-                self._clock_ref(base, now)
-            elif not counter.latched:           # CE itself: the pulses up to now
-                self.sync_to(now)
-            return counter.read()
-        if port == C.STATUS_PORT:
-            self.sync_to(now)
-            return self.drive.status_byte(*self.refs)
+        read = self.readers.get(port)
+        if read is not None:
+            return read(now)
         if port >= C.PCB_BASE:
             word = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             return word >> 8 if port & 1 else word & 0xFF
         return 0xFF                       # unused ports and write-only latches float
+
+    def _write_reference(self, base, byte, now):
+        """Counter 0, the speed reference: a count's byte."""
+        self._clock_ref(base, now)
+        if self.chips[base].counters[0].write(byte):
+            self._new_references(now)
+
+    def _write_control(self, base, byte, now):
+        if not byte & 0xC0:                 # counter 0's mode: maybe a new reference
+            self._clock_ref(base, now)
+            self.chips[base].write_control(byte)
+            self._new_references(now)
+        else:                               # counters 1 and 2: their pulses up to now first
+            self.sync_to(now)
+            self.chips[base].write_control(byte)
+
+    def _new_references(self, now):
+        refs = self.references()
+        if refs != self.refs:               # the physics up to now at the old speeds
+            self.sync_to(now)
+            self.refs = refs
+
+    def _write_encoder(self, counter, byte, now):
+        self.sync_to(now)
+        counter.write(byte)
+
+    def _read_reference(self, base, now):
+        self._clock_ref(base, now)
+        return self.chips[base].counters[0].read()
+
+    def _read_control(self, now):
+        return I8253.CONTROL_READ           # write-only
+
+    def _read_encoder(self, counter, now):
+        if not counter.latched:             # CE itself: the pulses up to now
+            self.sync_to(now)
+        return counter.read()
+
+    def _read_status(self, now):
+        self.sync_to(now)
+        return self.drive.status_byte(*self.refs)
 
     def out16(self, port, word):
         if port >= C.PCB_BASE:            # the PCB takes whole words
@@ -201,6 +238,7 @@ class SimBoard(Board):
         self.refresh_due()                # the next interrupt may have moved
 
     def _latch(self, port, byte, now):
+        """The MOTOR or AUX latch (the beeper's times kept)."""
         if byte != (self.motor_latch if port == C.MOTOR_PORT else self.aux_latch):
             self.sync_to(now)                   # the physics up to now on the old relays
         if port == C.MOTOR_PORT:
