@@ -451,6 +451,7 @@ def test_a_steady_stretch_cruised_in_any_pieces_ends_on_the_same_bits_as_at_once
     whole.cruise(sum(pieces), relays)
     for n in pieces:
         cut.cruise(n, relays)
+        assert cut.robot.heading_rad is not None            # looking at it changes nothing
 
     def state(d):
         return ([(w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],

@@ -299,9 +299,9 @@ class SimBoard(Board):
                 self.cruise(target - ms)
                 ms = target
                 break
-            (a, b), (c, d) = drive.step(latch, aux, f_left, f_right)
+            n, ((a, b), (c, d)) = drive.run(target - ms, latch, aux, f_left, f_right)
             lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
-            ms += 1
+            ms += n
         self.physics_ms = ms
         if lf or lr or rf or rr:
             self.deliver(((lf, lr), (rf, rr)))

@@ -173,13 +173,15 @@ class Wheel:
         self.pos_frac = frac
         return NO_PULSES
 
+    def target(self, on, rev, go, f_ref):
+        """The rate a step would leave as it is: the reference, or rest."""
+        if on and go and not self.stalled:
+            return -f_ref if rev else f_ref
+        return 0.0
+
     def steady(self, on, rev, go, f_ref):
         """Would a step leave the rate as it is (at its target, or at rest)?"""
-        if self.stalled:
-            return self.rate == 0.0
-        if on and go:
-            return self.rate == (-f_ref if rev else f_ref)
-        return self.rate == 0.0
+        return self.rate == self.target(on, rev, go, f_ref)
 
     def glide(self, start, k, go):
         """Where a steady stretch (see Stretch) leaves this wheel k sub-steps
@@ -432,8 +434,10 @@ class Stretch:
         self.steps = 0
         self.wheels = tuple((w.pos_frac, w.forward_counts, w.reverse_counts, w.rate * dt)
                             for w in (drive.left, drive.right))
-        self.pose = drive.robot.start
-        self.left_at = None
+        self.pose = drive._robot.start
+        self.placed = 0                      # the sub-steps the robot stands at
+        self.pose_at = self.pose[:3]         # where this stretch last stood it
+        self.left_at = None                  # Drive._where after the last cruise
 
 
 # ---------------------------------------------------------------------------
@@ -446,6 +450,10 @@ class Drive:
     Parts: `left` (motor 1) and `right` (motor 2) wheels, `lift`, `gripper`,
     `robot` (pose). Beeper: `beeper` (sounding now) and `beeper_s` (seconds
     sounded in total). Fault: `charger` (sitting on the charging contacts).
+
+    During a steady stretch the pose is worked out only when someone looks
+    at `robot` (or a step follows): the wheels' counts are needed at every
+    port access, the pose seldom.
     """
 
     COUNTS_PER_INCH = C.COUNTS_PER_INCH
@@ -455,24 +463,61 @@ class Drive:
         self.right = Wheel()
         self.lift = Lift()
         self.gripper = Gripper()
-        self.robot = Robot()
+        self._robot = Robot()
         self.beeper = False
         self.beeper_s = 0.0
         self.charger = False
         self.stretch = None          # the steady stretch under way, if any
 
+    @property
+    def robot(self):
+        """The Robot (pose), where the wheels have brought it."""
+        if self.stretch is not None:
+            self._place()
+        return self._robot
+
+    def _place(self):
+        """Stand the robot where the stretch under way has brought it."""
+        s = self.stretch
+        k = s.steps
+        if s.placed != k:
+            (lstart, rstart), cpi = s.wheels, self.COUNTS_PER_INCH
+            r = self._robot
+            if lstart[3] or rstart[3]:
+                r.arc(s.pose, lstart[3] * k / cpi, rstart[3] * k / cpi)
+            s.placed, s.pose_at = k, (r.x, r.y, r.heading_rad)
+
     def step(self, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """One sub-step; return ((fwd, rev) left pulses, (fwd, rev) right pulses)."""
+        if self.stretch is not None:          # it ends here
+            self._place()
+            self.stretch = None
         m = motor_byte
         lp = self.left.step(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left, dt)
         rp = self.right.step(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right, dt)
         tl, tr = self.left.travel, self.right.travel
         if tl or tr:
             cpi = self.COUNTS_PER_INCH
-            self.robot.move(tl / cpi, tr / cpi)
+            self._robot.move(tl / cpi, tr / cpi)
         if aux_byte or self.beeper:
             self._step_aux(aux_byte, dt)
         return lp, rp
+
+    def run(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
+        """Up to n sub-steps, one at a time, stopping early once the drive is
+        `steady`; -> (sub-steps made, (left, right) pulses summed)."""
+        m, left, right = motor_byte, self.left, self.right
+        lt = left.target(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
+        rt = right.target(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right)
+        busy = aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER)
+        lf = lr = rf = rr = k = 0
+        step = self.step
+        while k < n:
+            (a, b), (c, d) = step(m, aux_byte, f_ref_left, f_ref_right, dt)
+            lf, lr, rf, rr, k = lf + a, lr + b, rf + c, rr + d, k + 1
+            if left.rate == lt and right.rate == rt and not busy and not self.beeper:
+                break
+        return k, ((lf, lr), (rf, rr))
 
     def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
         """Nothing but steady wheels: `cruise` may take many steps at once."""
@@ -484,26 +529,27 @@ class Drive:
     def cruise(self, n, motor_byte, dt=C.SUB_STEP_S):
         """n sub-steps of steady wheels (see `steady`) at once: the stretch
         they belong to goes on, or a new one begins here (see Stretch)."""
-        s = self.stretch
-        if s is None or s.dt != dt or s.left_at != self._where():
+        s, r = self.stretch, self._robot
+        if s is None or s.dt != dt or s.left_at != self._where() \
+                or s.pose_at != (r.x, r.y, r.heading_rad):
+            if s is not None:
+                self._place()
             s = self.stretch = Stretch(self, dt)
         s.steps += n
         k = s.steps
-        (lstart, rstart), cpi = s.wheels, self.COUNTS_PER_INCH
+        lstart, rstart = s.wheels
         lp = self.left.glide(lstart, k, motor_byte & C.M1_GO)
         rp = self.right.glide(rstart, k, motor_byte & C.M2_GO)
-        if lstart[3] or rstart[3]:
-            self.robot.arc(s.pose, lstart[3] * k / cpi, rstart[3] * k / cpi)
         s.left_at = self._where()
         return lp, rp
 
     def _where(self):
-        """All a stretch carries on from: if anything else moved the wheels
-        or the robot since (a step, a test, `Sim.place`), a new one begins."""
-        left, right, r = self.left, self.right, self.robot
+        """The wheels as a stretch carries on from them: if anything else
+        changed them since its last cruise (a test), or moved the robot from
+        where the stretch last stood it (`Sim.place`), a new one begins."""
+        left, right = self.left, self.right
         return (left.rate, left.pos_frac, left.forward_counts, left.reverse_counts,
-                right.rate, right.pos_frac, right.forward_counts, right.reverse_counts,
-                r.x, r.y, r.heading_rad)
+                right.rate, right.pos_frac, right.forward_counts, right.reverse_counts)
 
     def _step_aux(self, aux_byte, dt):
         self.lift.step(aux_byte, dt)
