@@ -224,13 +224,21 @@ class SimBoard(Board):
         return super().in16(port)
 
     def port_script(self, ops):
-        """The ops at one moment, each as out8/in8 would do it then."""
+        """The ops at one moment, each as out8/in8 would do it then (straight
+        from the port map where it has the port and no log is kept)."""
         now, reads = self.machine.clock, []
+        writers = self.writers if self.port_log is None else {}
+        readers = self.readers
         for op, port, value in ops:
             if op == OUT8:
-                self._out8(port, value, now)
+                write = writers.get(port)
+                if write is not None:
+                    write(value, now)
+                else:
+                    self._out8(port, value, now)
             else:
-                reads.append(self._in8(port, now) & 0xFF)
+                read = readers.get(port)
+                reads.append((read(now) if read is not None else self._in8(port, now)) & 0xFF)
         return reads
 
     def _pcb_write(self, offset, word, now):

@@ -120,27 +120,37 @@ class Wheel:
         elif on and go:
             target = -f_ref if rev else f_ref
             if rate != target:
-                rate = self._follow(rate, target)
+                # First-order PLL step, clamped to the torque left over by the drag.
+                delta = (target - rate) * self._k_pll
+                limit = self._up_dt if delta * rate >= 0.0 else self._down_dt
+                if delta > limit:
+                    delta = limit
+                elif delta < -limit:
+                    delta = -limit
+                rate += delta
+                if -self.REST < target - rate < self.REST:
+                    rate = target
         elif rate:
             rate = self._decay(rate, self._keep_coast if on else self._keep_brake)
         self.rate = rate
         if not rate:
             self.travel = 0.0
             return NO_PULSES
-        return self._advance(rate * dt)
-
-    def _follow(self, rate, target):
-        # First-order PLL step, clamped to the torque left over by the drag.
-        delta = (target - rate) * self._k_pll
-        limit = self._up_dt if delta * rate >= 0.0 else self._down_dt
-        if delta > limit:
-            delta = limit
-        elif delta < -limit:
-            delta = -limit
-        rate += delta
-        if -self.REST < target - rate < self.REST:
-            return target
-        return rate
+        # Move by rate * dt counts and deliver the whole counts as pulses.
+        self.travel = counts = rate * dt
+        frac = self.pos_frac + counts
+        if frac >= 1.0:
+            n = int(frac)
+            self.pos_frac = frac - n
+            self.forward_counts += n
+            return (n, 0)
+        if frac <= -1.0:
+            n = int(-frac)
+            self.pos_frac = frac + n
+            self.reverse_counts += n
+            return (0, n)
+        self.pos_frac = frac
+        return NO_PULSES
 
     def _decay(self, rate, keep):
         # Coast or brake toward 0; the drag helps but never reverses the wheel.
@@ -155,23 +165,6 @@ class Wheel:
         if -self.REST < rate < self.REST:
             return 0.0
         return rate
-
-    def _advance(self, counts):
-        # Move by `counts` (signed) and deliver the whole counts as pulses.
-        self.travel = counts
-        frac = self.pos_frac + counts
-        if frac >= 1.0:
-            n = int(frac)
-            self.pos_frac = frac - n
-            self.forward_counts += n
-            return (n, 0)
-        if frac <= -1.0:
-            n = int(-frac)
-            self.pos_frac = frac + n
-            self.reverse_counts += n
-            return (0, n)
-        self.pos_frac = frac
-        return NO_PULSES
 
     def target(self, on, rev, go, f_ref):
         """The rate a step would leave as it is: the reference, or rest."""
@@ -188,7 +181,7 @@ class Wheel:
         after its `start` (pos_frac, forward and reverse counts, counts per
         sub-step); -> the (fwd, rev) pulses that are new since the last
         call. The whole counts of pos_frac + k * travel are delivered,
-        truncated toward zero as `_advance` truncates them."""
+        truncated toward zero as `step` truncates them."""
         frac0, fwd0, rev0, per_step = start
         self.go = go
         self.travel = per_step
