@@ -52,6 +52,7 @@ TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
 EOI_TIMER = 0x0008
 DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
+NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
 
 
 class SimBoard(Board):
@@ -287,32 +288,21 @@ class SimBoard(Board):
 
     def physics_to(self, target):
         """Physics up to millisecond `target`: jumped over while nothing
-        moves, in closed form at steady speed (motors.Stretch: the same
-        bits however the stretch is cut), else 1 ms at a time. The stepped
+        moves, else as Drive.advance makes it: 1 ms at a time while a rate
+        changes, in closed form once the wheels hold their rates
+        (motors.Stretch: the same bits however the stretch is cut). The
         milliseconds' pulses reach the 8253s together at the end: nothing
         reads a counter in between, and n CLKs at once count as n one at a
         time. So the moments at which the physics is brought up change
         nothing."""
-        drive, latch, aux = self.drive, self.motor_latch, self.aux_latch
-        left, right = drive.left, drive.right
-        f_left, f_right = self.refs
-        lf = lr = rf = rr = 0
-        ms = self.physics_ms
-        while ms < target:
-            if not (left.rate or right.rate) and self.is_idle():   # a turning wheel is never idle
-                ms = target
-                break
-            if drive.steady(latch, aux, f_left, f_right):
-                self.physics_ms = ms
-                self.cruise(target - ms)
-                ms = target
-                break
-            n, ((a, b), (c, d)) = drive.run(target - ms, latch, aux, f_left, f_right)
-            lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
-            ms += n
-        self.physics_ms = ms
-        if lf or lr or rf or rr:
-            self.deliver(((lf, lr), (rf, rr)))
+        drive = self.drive
+        if not (drive.left.rate or drive.right.rate) and self.is_idle():   # a turning wheel is never idle
+            self.physics_ms = target
+            return
+        pulses = drive.advance(target - self.physics_ms, self.motor_latch, self.aux_latch, *self.refs)
+        self.physics_ms = target
+        if pulses != NO_MOTION:
+            self.deliver(pulses)
 
     def is_idle(self):
         """Nothing moves and nothing would start moving."""
@@ -322,12 +312,6 @@ class SimBoard(Board):
         f_left, f_right = self.refs
         return not ((m & C.M1_ON and m & C.M1_GO and f_left and not d.left.stalled)
                     or (m & C.M2_ON and m & C.M2_GO and f_right and not d.right.stalled))
-
-    def cruise(self, n):
-        """n milliseconds of wheels at steady speed, at once."""
-        pulses = self.drive.cruise(n, self.motor_latch)
-        self.deliver(pulses)
-        self.physics_ms += n
 
     def deliver(self, pulses):
         (lf, lr), (rf, rr) = pulses

@@ -496,21 +496,25 @@ class Drive:
             self._step_aux(aux_byte, dt)
         return lp, rp
 
-    def run(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
-        """Up to n sub-steps, one at a time, stopping early once the drive is
-        `steady`; -> (sub-steps made, (left, right) pulses summed)."""
+    def advance(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
+        """n sub-steps: one at a time while a rate changes (or the arm,
+        gripper or beeper runs), then at once as a steady stretch (`cruise`)
+        as soon as the drive is `steady`; -> ((fwd, rev) left, (fwd, rev)
+        right) pulses summed."""
         m, left, right = motor_byte, self.left, self.right
         lt = left.target(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
         rt = right.target(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right)
         busy = aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER)
-        lf = lr = rf = rr = k = 0
-        step = self.step
-        while k < n:
-            (a, b), (c, d) = step(m, aux_byte, f_ref_left, f_ref_right, dt)
-            lf, lr, rf, rr, k = lf + a, lr + b, rf + c, rr + d, k + 1
+        lf = lr = rf = rr = 0
+        while n > 0:
             if left.rate == lt and right.rate == rt and not busy and not self.beeper:
-                break
-        return k, ((lf, lr), (rf, rr))
+                (a, b), (c, d) = self.cruise(n, m, dt)
+                n = 0
+            else:
+                (a, b), (c, d) = self.step(m, aux_byte, f_ref_left, f_ref_right, dt)
+                n -= 1
+            lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
+        return (lf, lr), (rf, rr)
 
     def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
         """Nothing but steady wheels: `cruise` may take many steps at once."""
