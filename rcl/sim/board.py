@@ -344,8 +344,10 @@ class SimBoard(Board):
     def service(self, m):
         """An interrupt request: the simulated BIOS handles timer 0. The EOI
         and the next due time are restored whatever the handler does (a
-        fault in it still ends the interrupt, as the BIOS's IRET would)."""
-        now = self.sync()
+        fault in it still ends the interrupt, as the BIOS's IRET would).
+        The physics is not brought up here: the handler's own port accesses
+        do it as far as they need, and the observers see it at the end."""
+        now = m.clock
         kind = self.pcb.acknowledge(self.pcb_time(now))
         if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
