@@ -197,6 +197,12 @@ class Counter:
             self._complete(self._lsb | byte << 8)
         return True
 
+    def write_acts(self):
+        """Would a byte written now act on the counting at once? All but the
+        first byte of a two-byte count outside mode 0, which is only kept
+        until the second comes (the board need not bring CLK up for it)."""
+        return not (self._write_lsb_next and self.rw == self.RW_BOTH and self.mode != 0)
+
     def read(self):
         """A byte read from this counter's address (2.4)."""
         rw, lsb_next = self.rw, self._read_lsb_next
