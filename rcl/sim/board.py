@@ -144,7 +144,11 @@ class SimBoard(Board):
         return writers, readers
 
     def out8(self, port, byte):
-        self._out8(port, byte, self.machine.clock)
+        write = self.writers.get(port) if self.port_log is None else None
+        if write is not None:             # (straight to the port map: PC! runs often)
+            write(byte, self.machine.clock)
+        else:
+            self._out8(port, byte, self.machine.clock)
 
     def _out8(self, port, byte, now):
         if self.port_log is not None:
@@ -158,6 +162,9 @@ class SimBoard(Board):
             self._pcb_write(port & 0xFE, word, now)
 
     def in8(self, port):
+        read = self.readers.get(port)
+        if read is not None:
+            return read(self.machine.clock)
         return self._in8(port, self.machine.clock)
 
     def _in8(self, port, now):
