@@ -505,6 +505,8 @@ class Drive:
         lt = left.target(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
         rt = right.target(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right)
         busy = aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER)
+        if left.rate == lt and right.rate == rt and not busy and not self.beeper:
+            return self.cruise(n, m, dt)          # steady already (most calls)
         lf = lr = rf = rr = 0
         while n > 0:
             if left.rate == lt and right.rate == rt and not busy and not self.beeper:
