@@ -412,14 +412,25 @@ class Robot:
 class Stretch:
     """A run of sub-steps in which both wheels hold their rates (Drive.cruise).
 
-    k sub-steps after it began, wheel w has travelled v_w * k counts
-    (v_w = rate_w * dt, one multiplication, not k additions) and the robot
-    stands at the end of the exact arc of those travels from the pose the
-    stretch began at. The state after k sub-steps is therefore one value,
-    however the k were cut into calls: the board may bring the physics up
-    to the clock at whatever moments it likes (every port access, or only
-    those the physics must see) and gets the same bits, and cruising k
-    sub-steps one at a time equals cruising them at once, by construction.
+    The state k sub-steps after the stretch began is a closed form of k,
+    from what it began with (pos_frac f0, counts, pose x0 y0 h0):
+
+        wheel w   f = f0_w + v_w * k          v_w = rate_w * dt, counts
+                  int(f) more counts delivered (toward zero, as a step
+                  does), f - int(f) left in pos_frac
+        robot     s_w = v_w * k / COUNTS_PER_INCH, ds = (s_l + s_r) / 2,
+                  turn = (s_r - s_l) / TRACK_IN
+                  x = x0 + ds * sinc(turn/2) * cos(h0 + turn/2), y likewise
+                  with sin, heading h0 + turn (the exact arc, Robot.arc)
+
+    One multiplication, not k additions: the state after k sub-steps is
+    one value however the k were cut into calls. So the board may bring
+    the physics up at whatever moments it likes (every port access, or
+    only those the physics must see) and gets the same bits, and cruising
+    k sub-steps one at a time equals cruising them at once, by
+    construction (tests/test_motors.py and test_board.py cut stretches at
+    random). The stepped sub-steps (Wheel.step, Robot.move) sum instead:
+    an Euler step of a rate that changes.
     """
 
     def __init__(self, drive, dt):
