@@ -419,9 +419,10 @@ class Stretch:
                   int(f) more counts delivered (toward zero, as a step
                   does), f - int(f) left in pos_frac
         robot     s_w = v_w * k / COUNTS_PER_INCH, ds = (s_l + s_r) / 2,
-                  turn = (s_r - s_l) / TRACK_IN
-                  x = x0 + ds * sinc(turn/2) * cos(h0 + turn/2), y likewise
-                  with sin, heading h0 + turn (the exact arc, Robot.arc)
+                  turn = (s_r - s_l) / TRACK_IN, t = turn / 2
+                  x = x0 + ds * sin(t) / t * cos(h0 + t), y likewise with
+                  sin(h0 + t), heading h0 + turn (the exact arc, Robot.arc;
+                  a straight line when turn = 0)
 
     One multiplication, not k additions: the state after k sub-steps is
     one value however the k were cut into calls. So the board may bring
