@@ -531,7 +531,8 @@ class Drive:
         return (lf, lr), (rf, rr)
 
     def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
-        """Nothing but steady wheels: `cruise` may take many steps at once."""
+        """Nothing but steady wheels: `cruise` may take many steps at once
+        (the rule Drive.advance applies with the targets worked out once)."""
         m = motor_byte
         return (not aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER) and not self.beeper
                 and self.left.steady(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
