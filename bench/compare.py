@@ -17,7 +17,10 @@ and a Forth handler reading both 8253s every tick; `startup`, a whole
 `rcl -e BYE` process (the child's CPU time from start to exit; run
 `python3 -m compileall rcl` in both trees first, as pip does on install,
 or both pay for compiling every module). Both trees must end with the same clock, BIOS
-ticks, wheel counts and pose, to the last bit.
+ticks and wheel counts, and the same pose to the last bit (each board
+brought up to the machine's clock first, so both are looked at at the same
+instant); a pose that differs only in its last bits is reported with the
+largest difference, in inches or degrees.
 """
 import argparse
 import json
@@ -62,8 +65,9 @@ else:
 t0 = time.process_time()
 out = m.evaluate(run)
 t = time.process_time() - t0
-out += repr((m.sim.ticks, m.sim.bios_ticks, m.sim.wheel_counts, m.sim.pose))
-print(json.dumps({"cpu": t, "out": out, "clock": m.clock}))
+m.sim.board.sync()
+out += repr((m.sim.ticks, m.sim.bios_ticks, m.sim.wheel_counts))
+print(json.dumps({"cpu": t, "out": out, "clock": m.clock, "pose": m.sim.pose}))
 '''
 BOARD_PROGRAMS = ['mailbot', 'driving', 'startup']
 
@@ -104,13 +108,16 @@ def main():
             for tree in order:
                 res = run(tree, name, args.python)
                 times[tree].append(res['cpu'])
-                results.setdefault(tree, (res['out'], res['clock']))
-        same = results[args.old] == results[args.new]
+                results.setdefault(tree, (res['out'], res['clock'], res.get('pose')))
+        (old_out, old_clock, old_pose), (new_out, new_clock, new_pose) = results[args.old], results[args.new]
+        same = (old_out, old_clock) == (new_out, new_clock)
+        note = '' if same else ' (OUTPUT OR CLOCK DIFFER)'
+        if same and old_pose != new_pose:
+            note = ' (pose differs by up to %.1g)' % max(abs(a - b) for a, b in zip(old_pose, new_pose))
         old, new = times[args.old], times[args.new]
         print('| %s | %.2f / %.2f | %.2f / %.2f | %.2fx%s |' % (
             name, min(old), statistics.median(old), min(new), statistics.median(new),
-            statistics.median(old) / statistics.median(new),
-            '' if same else ' (OUTPUT OR CLOCK DIFFER)'))
+            statistics.median(old) / statistics.median(new), note))
 
 
 if __name__ == '__main__':

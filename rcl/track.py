@@ -157,9 +157,11 @@ class Track:
             j = max(0, i - window)
             while t[i] - t[j] > (i - j + 0.5) * TICK_S:      # not consecutive ticks
                 j += 1
-            if j == i:
+            if j == i:                  # after a gap: the change took at most a tick
                 j = i - 1
-            dt = min(t[i] - t[j], (i - j) * TICK_S)
+                dt = min(t[i] - t[j], TICK_S)
+            else:                       # consecutive ticks: the time between the rows
+                dt = t[i] - t[j]
             out.append((c[i] - c[j]) / dt if dt > 0 else 0.0)
         return out
 

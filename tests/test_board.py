@@ -4,8 +4,11 @@ import io
 import pathlib
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rcl
+import rcl.sim.board
 from rcl.forth.primitives import CLOCK_HZ
 from rcl.sim.observe import Trace
 from rcl.sim.pace import Pacer
@@ -283,3 +286,70 @@ def test_a_stretch_of_accelerating_milliseconds_brought_up_at_once_equals_one_at
                 [c.value for chip in b.chips.values() for c in chip.counters[1:]])
     assert state(at_once) == state(one_by_one)
     assert at_once.drive.left.forward_counts + at_once.drive.left.reverse_counts > 5
+
+
+def board_state(b):
+    """Everything the physics decides, to the last bit."""
+    d = b.drive
+    return ([(w.rate, w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],
+            (d.robot.x, d.robot.y, d.robot.heading_rad),
+            [c.value for chip in b.chips.values() for c in chip.counters[1:]])
+
+
+def all_counters(b):
+    """Every 8253 counter's count and OUT, the speed references' too."""
+    for base in b.chips:
+        b._clock_ref(base, b.machine.clock)
+    return [(c.value, c.out) for chip in b.chips.values() for c in chip.counters]
+
+
+@settings(max_examples=40, deadline=None, derandomize=True, database=None)
+@given(relays=st.sampled_from([BOTH_FORWARD, SPIN_CW]), count=st.sampled_from([50, 125, 200]),
+       cuts=st.lists(st.integers(1, 1499), max_size=30))
+def test_the_physics_brought_up_at_any_moments_equals_it_brought_up_at_once(relays, count, cuts):
+    # a ramp, then a steady stretch: a port access may come at any millisecond
+    boards = []
+    for _ in range(2):
+        m = rcl.open(screens=False)
+        m.evaluate(LAYER)
+        drive(m, relays, count)
+        boards.append(m.sim.board)
+    at_once, cut = boards
+    start = at_once.physics_ms
+    at_once.physics_to(start + 1500)
+    for ms in sorted(set(cuts)) + [1500]:
+        cut.physics_to(start + ms)
+    assert at_once.drive.steady(at_once.motor_latch, at_once.aux_latch, *at_once.refs)
+    assert board_state(cut) == board_state(at_once)
+
+
+class EagerBoard(rcl.sim.board.SimBoard):
+    """The physics and the 8253s' CLK brought up at every port access."""
+
+    def out8(self, port, byte):
+        self.sync()
+        for base in self.chips:
+            self._clock_ref(base, self.machine.clock)
+        super().out8(port, byte)
+
+    def in8(self, port):
+        self.sync()
+        return super().in8(port)
+
+    def port_script(self, ops):
+        self.sync()
+        return super().port_script(ops)
+
+
+def test_the_board_that_brings_its_physics_up_only_when_it_must_ends_on_the_same_bits():
+    # RCL's control word writes both speed counts every tick, most of them
+    # the same again: such writes and latched reads leave the physics alone
+    words = ".1 G RERB 25.5 IPS  3.5 FEET FORWARD 90 DEGREES LEFT  1 FEET BACKWARD"
+    lazy, eager = rcl.open(board=rcl.sim.board.SimBoard()), rcl.open(board=EagerBoard())
+    for m in (lazy, eager):
+        m.evaluate(words)
+        m.sim.board.sync()
+    assert lazy.clock == eager.clock and lazy.sim.ticks == eager.sim.ticks
+    assert board_state(lazy.sim.board) == board_state(eager.sim.board)
+    assert all_counters(lazy.sim.board) == all_counters(eager.sim.board)
+    assert lazy.sim.board.drive.left.forward_counts > 1000

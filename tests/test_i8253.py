@@ -551,3 +551,22 @@ def test_n_clocks_at_once_leave_the_counter_as_the_same_clocks_in_parts(mode, bc
         in_parts.counters[1].clock(n)
     assert vars(at_once.counters[1]) == vars(in_parts.counters[1])
     assert read_word(at_once, 1) == read_word(in_parts, 1)
+
+
+@settings(max_examples=300, deadline=None)
+@given(mode=st.integers(0, 5), count=st.integers(0, 0xFFFF), new=st.integers(0, 0xFFFF),
+       before=st.integers(0, 70000), after=st.integers(1, 70000))
+def test_clks_may_come_after_a_first_count_byte_that_does_not_act(mode, count, new, before, after):
+    # the board brings CLK up before a count byte only when write_acts() says it acts
+    control = 0x30 | mode << 1                              # counter 0, LSB then MSB
+    first, late = (programmed(control, count & 0xFF, count >> 8) for _ in range(2))
+    for chip in (first, late):
+        chip.counters[0].clock(before)
+    assert first.counters[0].write_acts() == (mode == 0)    # an LSB acts only in mode 0
+    first.counters[0].clock(after)
+    first.write(0, new & 0xFF)
+    if not late.counters[0].write_acts():
+        late.write(0, new & 0xFF)
+        late.counters[0].clock(after)
+        assert vars(late.counters[0]) == vars(first.counters[0])
+    assert first.counters[0].write_acts()                   # a count's last byte acts

@@ -8,6 +8,8 @@ PLL, coast and brake time constants 20, 300 and 50 ms; lift 1 in/s over
 import math
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rcl.sim import constants as C
 from rcl.sim.motors import Drive, Gripper, Lift, MotorsError, Robot, Wheel
@@ -433,3 +435,35 @@ def test_cruising_at_steady_speed_gives_the_same_counts_and_pose_as_stepping():
     assert cruised.robot.heading == pytest.approx(stepped.robot.heading, abs=1e-6)
     assert cruised.robot.x == pytest.approx(stepped.robot.x, abs=1e-3)
     assert cruised.robot.y == pytest.approx(stepped.robot.y, abs=1e-3)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
+@given(rates=st.sampled_from([(1000.0, 400.0), (-1250.0, 1250.0), (1000.0, 1000.0), (0.0, -625.0)]),
+       pieces=st.lists(st.integers(1, 700), min_size=1, max_size=12))
+def test_a_steady_stretch_cruised_in_any_pieces_ends_on_the_same_bits_as_at_once(rates, pieces):
+    # the stretch's state is a closed form of its length (Stretch), not a sum of its pieces
+    relays = FORWARD | (C.M1_REV if rates[0] < 0 else 0) | (C.M2_REV if rates[1] < 0 else 0)
+    whole, cut = Drive(), Drive()
+    for d in (whole, cut):
+        d.robot.heading = 30.0
+        d.left.pos_frac, d.right.pos_frac = 0.75, -0.5      # left over from a ramp
+        steady(d, *rates)
+    whole.cruise(sum(pieces), relays)
+    for n in pieces:
+        cut.cruise(n, relays)
+        assert cut.robot.heading_rad is not None            # looking at it changes nothing
+
+    def state(d):
+        return ([(w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],
+                (d.robot.x, d.robot.y, d.robot.heading_rad))
+    assert state(cut) == state(whole)
+
+
+def test_a_robot_placed_during_a_stretch_cruises_on_from_where_it_was_placed():
+    d = Drive()
+    steady(d, 1000.0, 1000.0)
+    d.cruise(500, FORWARD)
+    d.robot.x, d.robot.y, d.robot.heading = 0.0, 0.0, 90.0     # as Sim.place does
+    d.cruise(1000, FORWARD)
+    assert (d.robot.x, d.robot.y) == (pytest.approx(0.0, abs=1e-9), pytest.approx(35.2))
+    assert d.left.position == 1500

@@ -17,10 +17,16 @@ driven by the Forth machine's virtual clock.
     0x10000     the Forth machine's 64 KiB (segment FORTH_CS = 0x1000)
     elsewhere   reads 0xFF
 
-Time is lazy: chips and physics are brought up to `machine.clock` when a
-port is touched or an interrupt is serviced. Physics runs in 1 ms
-sub-steps (10 per RCL tick) and jumps straight over stretches in which
-nothing moves.
+Time is lazy: each chip is brought up to `machine.clock` when it is
+touched, and the physics when an interrupt is serviced or a port access
+must see it or changes what it sees: a new speed reference, a relay, an
+encoder counter latched or read unlatched, STATUS. A write that changes
+nothing the physics sees (a count's first byte, the same count again, the
+same relays) and a read of a latched counter cost no physics at all.
+Physics runs in 1 ms sub-steps (10 per RCL tick) and jumps straight over
+stretches in which nothing moves, or in which the wheels hold their rates
+(their state a closed form of the time, motors.Stretch); so when it is
+brought up changes no bit of it.
 
 The simulated BIOS (Python, not Forth) is the type-8 handler: it adds one
 to the 32-bit tick count, wraps it at the ticks-per-day value (1,573,040 at
@@ -30,6 +36,7 @@ INT 1Ch pointing into the Forth segment runs that Forth word; anything
 else is taken as the power-on IRET.
 """
 import collections
+import functools
 import struct
 
 from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
@@ -45,6 +52,7 @@ TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
 EOI_TIMER = 0x0008
 DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
+NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
 
 
 class SimBoard(Board):
@@ -72,6 +80,7 @@ class SimBoard(Board):
         self.quiet = False                # INT 1Ch skipped (skip_to_tick)
         self.handler_cost = None          # clock units the last INT 1Ch handler took
         self.due = None                   # the next interrupt (refresh_due)
+        self.writers, self.readers = self._port_map()
         self._power_on_bios()
 
     def attach(self, machine):
@@ -115,49 +124,104 @@ class SimBoard(Board):
             self.machine.memory.cstore(a - LOW_RAM, byte)
 
     # ------------------------------------------------------------- ports
+    def _port_map(self):
+        """The board's port decoding, once: port -> what a write of a byte
+        does (byte, now) and what a read gives (now). The PCB's 256 ports
+        are decoded apart; any other port floats."""
+        writers, readers = {}, {}
+        for base, chip in self.chips.items():
+            ref, fwd, rev = chip.counters
+            writers[base] = functools.partial(self._write_reference, base)
+            writers[base + 3] = functools.partial(self._write_control, base)
+            readers[base] = functools.partial(self._read_reference, base)
+            readers[base + 3] = self._read_control
+            for offset, counter in ((1, fwd), (2, rev)):
+                writers[base + offset] = functools.partial(self._write_encoder, counter)
+                readers[base + offset] = functools.partial(self._read_encoder, counter)
+        writers[C.MOTOR_PORT] = functools.partial(self._latch, C.MOTOR_PORT)
+        writers[C.AUX_PORT] = functools.partial(self._latch, C.AUX_PORT)
+        readers[C.STATUS_PORT] = self._read_status
+        return writers, readers
+
     def out8(self, port, byte):
-        self._out8(port, byte, self.sync())
+        write = self.writers.get(port) if self.port_log is None else None
+        if write is not None:             # (straight to the port map: PC! runs often)
+            write(byte, self.machine.clock)
+        else:
+            self._out8(port, byte, self.machine.clock)
 
     def _out8(self, port, byte, now):
         if self.port_log is not None:
             self.port_log.append((now, port, byte))
-        if port in (C.MOTOR_PORT, C.AUX_PORT):
-            self._latch(port, byte, now)
-        elif C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base, a = port & ~3, port & 3
-            chip = self.chips[base]
-            if a == 0 or (a == 3 and not byte & 0xC0):   # counter 0, or a control word for it
-                self._clock_ref(base, now)
-                if chip.write(a, byte) or a == 3:   # a new count or mode: a new speed reference?
-                    self.refs = self.references()
-            elif a == 3:
-                chip.write_control(byte)
-            else:
-                chip.counters[a].write(byte)
+        write = self.writers.get(port)
+        if write is not None:
+            write(byte, now)
         elif port >= C.PCB_BASE:
             old = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             word = (old & 0xFF00) | byte if not port & 1 else (old & 0xFF) | (byte << 8)
             self._pcb_write(port & 0xFE, word, now)
 
     def in8(self, port):
-        return self._in8(port, self.sync())
+        read = self.readers.get(port)
+        if read is not None:
+            return read(self.machine.clock)
+        return self._in8(port, self.machine.clock)
 
     def _in8(self, port, now):
-        if C.LEFT_8253 <= port < C.LEFT_8253 + 8:
-            base, a = port & ~3, port & 3
-            if a == 0:
-                self._clock_ref(base, now)
-            return self.chips[base].counters[a].read() if a != 3 else I8253.CONTROL_READ
-        if port == C.STATUS_PORT:
-            return self.drive.status_byte(*self.refs)
+        read = self.readers.get(port)
+        if read is not None:
+            return read(now)
         if port >= C.PCB_BASE:
             word = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             return word >> 8 if port & 1 else word & 0xFF
         return 0xFF                       # unused ports and write-only latches float
 
+    def _write_reference(self, base, byte, now):
+        """Counter 0, the speed reference: a count's byte."""
+        counter = self.chips[base].counters[0]
+        if counter.write_acts():            # else CLK may catch up later, as if before
+            self._clock_ref(base, now)
+        if counter.write(byte):
+            self._new_references(now)
+
+    def _write_control(self, base, byte, now):
+        if not byte & 0xC0:                 # counter 0's mode: maybe a new reference
+            self._clock_ref(base, now)
+            self.chips[base].write_control(byte)
+            self._new_references(now)
+        else:                               # counters 1 and 2: their pulses up to now first
+            self.sync_to(now)
+            self.chips[base].write_control(byte)
+
+    def _new_references(self, now):
+        refs = self.references()
+        if refs != self.refs:               # the physics up to now at the old speeds
+            self.sync_to(now)
+            self.refs = refs
+
+    def _write_encoder(self, counter, byte, now):
+        self.sync_to(now)
+        counter.write(byte)
+
+    def _read_reference(self, base, now):
+        self._clock_ref(base, now)
+        return self.chips[base].counters[0].read()
+
+    def _read_control(self, now):
+        return I8253.CONTROL_READ           # write-only
+
+    def _read_encoder(self, counter, now):
+        if not counter.latched:             # CE itself: the pulses up to now
+            self.sync_to(now)
+        return counter.read()
+
+    def _read_status(self, now):
+        self.sync_to(now)
+        return self.drive.status_byte(*self.refs)
+
     def out16(self, port, word):
         if port >= C.PCB_BASE:            # the PCB takes whole words
-            now = self.sync()
+            now = self.machine.clock
             if self.port_log is not None:
                 self.port_log.append((now, port, word))
             self._pcb_write(port & 0xFFFE, word, now)
@@ -166,17 +230,25 @@ class SimBoard(Board):
 
     def in16(self, port):
         if port >= C.PCB_BASE:
-            return self.pcb.read16(port & 0xFE, self.pcb_time(self.sync()))
+            return self.pcb.read16(port & 0xFE, self.pcb_time(self.machine.clock))
         return super().in16(port)
 
     def port_script(self, ops):
-        """The ops at one moment: one sync, then each as out8/in8 would."""
-        now, reads = self.sync(), []
+        """The ops at one moment, each as out8/in8 would do it then (straight
+        from the port map where it has the port and no log is kept)."""
+        now, reads = self.machine.clock, []
+        writers = self.writers if self.port_log is None else {}
+        readers = self.readers
         for op, port, value in ops:
             if op == OUT8:
-                self._out8(port, value, now)
+                write = writers.get(port)
+                if write is not None:
+                    write(value, now)
+                else:
+                    self._out8(port, value, now)
             else:
-                reads.append(self._in8(port, now) & 0xFF)
+                read = readers.get(port)
+                reads.append((read(now) if read is not None else self._in8(port, now)) & 0xFF)
         return reads
 
     def _pcb_write(self, offset, word, now):
@@ -184,6 +256,9 @@ class SimBoard(Board):
         self.refresh_due()                # the next interrupt may have moved
 
     def _latch(self, port, byte, now):
+        """The MOTOR or AUX latch (the beeper's times kept)."""
+        if byte != (self.motor_latch if port == C.MOTOR_PORT else self.aux_latch):
+            self.sync_to(now)                   # the physics up to now on the old relays
         if port == C.MOTOR_PORT:
             self.motor_latch = byte
         else:
@@ -210,38 +285,33 @@ class SimBoard(Board):
     def sync(self):
         """Bring the physics up to the machine's clock; -> the clock."""
         now = self.machine.clock
+        self.sync_to(now)
+        return now
+
+    def sync_to(self, now):
+        """Bring the physics up to clock `now` (the last whole millisecond)."""
         target = now // MS
         if self.physics_ms < target:      # else already there (most port accesses)
             self.physics_to(target)
         self.clock = now
-        return now
 
     def physics_to(self, target):
         """Physics up to millisecond `target`: jumped over while nothing
-        moves, in closed form at steady speed, else 1 ms at a time. The
-        stepped milliseconds' pulses reach the 8253s together at the end:
-        nothing reads a counter in between, and n CLKs at once count as n
-        one at a time (as `cruise` relies on too)."""
-        drive, latch, aux = self.drive, self.motor_latch, self.aux_latch
-        left, right = drive.left, drive.right
-        f_left, f_right = self.refs
-        lf = lr = rf = rr = 0
-        ms = self.physics_ms
-        while ms < target:
-            if not (left.rate or right.rate) and self.is_idle():   # a turning wheel is never idle
-                ms = target
-                break
-            if drive.steady(latch, aux, f_left, f_right):
-                self.physics_ms = ms
-                self.cruise(target - ms)
-                ms = target
-                break
-            (a, b), (c, d) = drive.step(latch, aux, f_left, f_right)
-            lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
-            ms += 1
-        self.physics_ms = ms
-        if lf or lr or rf or rr:
-            self.deliver(((lf, lr), (rf, rr)))
+        moves, else as Drive.advance makes it: 1 ms at a time while a rate
+        changes, in closed form once the wheels hold their rates
+        (motors.Stretch: the same bits however the stretch is cut). The
+        milliseconds' pulses reach the 8253s together at the end: nothing
+        reads a counter in between, and n CLKs at once count as n one at a
+        time. So the moments at which the physics is brought up change
+        nothing."""
+        drive = self.drive
+        if not (drive.left.rate or drive.right.rate) and self.is_idle():   # a turning wheel is never idle
+            self.physics_ms = target
+            return
+        pulses = drive.advance(target - self.physics_ms, self.motor_latch, self.aux_latch, *self.refs)
+        self.physics_ms = target
+        if pulses != NO_MOTION:
+            self.deliver(pulses)
 
     def is_idle(self):
         """Nothing moves and nothing would start moving."""
@@ -251,12 +321,6 @@ class SimBoard(Board):
         f_left, f_right = self.refs
         return not ((m & C.M1_ON and m & C.M1_GO and f_left and not d.left.stalled)
                     or (m & C.M2_ON and m & C.M2_GO and f_right and not d.right.stalled))
-
-    def cruise(self, n):
-        """n milliseconds of wheels at steady speed, at once."""
-        pulses = self.drive.cruise(n, self.motor_latch)
-        self.deliver(pulses)
-        self.physics_ms += n
 
     def deliver(self, pulses):
         (lf, lr), (rf, rr) = pulses
@@ -289,8 +353,10 @@ class SimBoard(Board):
     def service(self, m):
         """An interrupt request: the simulated BIOS handles timer 0. The EOI
         and the next due time are restored whatever the handler does (a
-        fault in it still ends the interrupt, as the BIOS's IRET would)."""
-        now = self.sync()
+        fault in it still ends the interrupt, as the BIOS's IRET would).
+        The physics is not brought up here: the handler's own port accesses
+        do it as far as they need, and the observers see it at the end."""
+        now = m.clock
         kind = self.pcb.acknowledge(self.pcb_time(now))
         if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
@@ -310,6 +376,8 @@ class SimBoard(Board):
         self.due = nxt
         if nxt is not None and nxt < m.clock:
             self.overruns += 1
+        if self.observers:
+            self.sync()                   # they see the robot at the handler's end
         for observe in self.observers:
             observe(self)
         if self.pacer is not None:
@@ -426,7 +494,10 @@ class SimBoard(Board):
         return Trace(self, file, keep=True)
 
     def stop_motors(self):
-        """Safe state: every relay open (wheels braked, arm and gripper off)."""
+        """Safe state: every relay open (wheels braked, arm and gripper off),
+        from now: the physics runs up to now on the relays as they were."""
+        if self.machine is not None:
+            self.sync()
         self.motor_latch = 0
         self.aux_latch &= ~(C.ARM_ON | C.GRIP_ON | C.BEEPER)
 

@@ -71,8 +71,10 @@ class Counter:
     """One counter: CR, CE, OL, the two byte flip-flops, GATE in, OUT out.
 
     Board-facing: n (last complete count 1..65536, None before one),
-    mode, out, gate, frequency(f_clk), clock(n), set_gate(level), and
-    value (the live CE as a number; BCD mode gives the decimal count).
+    mode, out, gate, frequency(f_clk), clock(n), set_gate(level),
+    value (the live CE as a number; BCD mode gives the decimal count), and
+    latched (OL frozen by a latch command until fully read: a read then
+    does not depend on the CLKs since the latch).
     """
 
     RW_LATCH = 0b00
@@ -106,7 +108,7 @@ class Counter:
         self._write_lsb_next = True
         self._read_lsb_next = True
         self._ol = 0
-        self._latched = False
+        self.latched = False
 
     def __repr__(self):
         return "<Counter mode=%s n=%s value=%d out=%d>" % (
@@ -160,15 +162,15 @@ class Counter:
         self.mode = self.MODE_ALIASES.get(mode, mode)
         self.bcd = bool(bcd)
         self._write_lsb_next = self._read_lsb_next = True
-        self._latched = self._holding = self.running = False
+        self.latched = self._holding = self.running = False
         self.out = LOW if self.mode == 0 else HIGH
         self.n = None
 
     def latch(self):
         """Counter latch command: freeze OL unless already frozen."""
-        if not self._latched:
+        if not self.latched:
             self._ol = self._encoded()
-            self._latched = True
+            self.latched = True
 
     # ------------------------------------------------------------------
     # BUS: count writes and reads, one byte at a time
@@ -195,10 +197,16 @@ class Counter:
             self._complete(self._lsb | byte << 8)
         return True
 
+    def write_acts(self):
+        """Would a byte written now act on the counting at once? All but the
+        first byte of a two-byte count outside mode 0, which is only kept
+        until the second comes (the board need not bring CLK up for it)."""
+        return not (self._write_lsb_next and self.rw == self.RW_BOTH and self.mode != 0)
+
     def read(self):
         """A byte read from this counter's address (2.4)."""
         rw, lsb_next = self.rw, self._read_lsb_next
-        if lsb_next and not self._latched:
+        if lsb_next and not self.latched:
             self._ol = self._encoded()      # OL follows CE: sample per read
         if rw == 0b11:                      # RW_BOTH: LSB, then MSB
             byte = self._ol & 0xFF if lsb_next else self._ol >> 8
@@ -206,7 +214,7 @@ class Counter:
         else:
             byte = self._ol >> 8 if rw == 0b10 else self._ol & 0xFF
         if lsb_next:
-            self._latched = False           # fully read: OL follows CE again
+            self.latched = False           # fully read: OL follows CE again
         return byte
 
     def _complete(self, word):

@@ -38,7 +38,10 @@ rest (static friction equals the drag).
 Not modelled: motor electrical dynamics, PLL phase (only speed is locked),
 wheel slip, relay bounce, 8253 reference changes within a sub-step, battery
 voltage. A decaying or converging rate within 1e-6 counts/s of its target is
-snapped to it, so a wheel at rest or at steady speed takes the fast path.
+snapped to it, so a wheel at rest or at steady speed takes the fast path:
+while both wheels hold their rates (a Stretch), the wheels' counts and the
+pose are a closed form of the time since the stretch began, computed at
+once for any number of sub-steps (Drive.cruise).
 """
 import math
 
@@ -117,27 +120,37 @@ class Wheel:
         elif on and go:
             target = -f_ref if rev else f_ref
             if rate != target:
-                rate = self._follow(rate, target)
+                # First-order PLL step, clamped to the torque left over by the drag.
+                delta = (target - rate) * self._k_pll
+                limit = self._up_dt if delta * rate >= 0.0 else self._down_dt
+                if delta > limit:
+                    delta = limit
+                elif delta < -limit:
+                    delta = -limit
+                rate += delta
+                if -self.REST < target - rate < self.REST:
+                    rate = target
         elif rate:
             rate = self._decay(rate, self._keep_coast if on else self._keep_brake)
         self.rate = rate
         if not rate:
             self.travel = 0.0
             return NO_PULSES
-        return self._advance(rate * dt)
-
-    def _follow(self, rate, target):
-        # First-order PLL step, clamped to the torque left over by the drag.
-        delta = (target - rate) * self._k_pll
-        limit = self._up_dt if delta * rate >= 0.0 else self._down_dt
-        if delta > limit:
-            delta = limit
-        elif delta < -limit:
-            delta = -limit
-        rate += delta
-        if -self.REST < target - rate < self.REST:
-            return target
-        return rate
+        # Move by rate * dt counts and deliver the whole counts as pulses.
+        self.travel = counts = rate * dt
+        frac = self.pos_frac + counts
+        if frac >= 1.0:
+            n = int(frac)
+            self.pos_frac = frac - n
+            self.forward_counts += n
+            return (n, 0)
+        if frac <= -1.0:
+            n = int(-frac)
+            self.pos_frac = frac + n
+            self.reverse_counts += n
+            return (0, n)
+        self.pos_frac = frac
+        return NO_PULSES
 
     def _decay(self, rate, keep):
         # Coast or brake toward 0; the drag helps but never reverses the wheel.
@@ -153,40 +166,35 @@ class Wheel:
             return 0.0
         return rate
 
-    def _advance(self, counts):
-        # Move by `counts` (signed) and deliver the whole counts as pulses.
-        self.travel = counts
-        frac = self.pos_frac + counts
-        if frac >= 1.0:
-            n = int(frac)
-            self.pos_frac = frac - n
-            self.forward_counts += n
-            return (n, 0)
-        if frac <= -1.0:
-            n = int(-frac)
-            self.pos_frac = frac + n
-            self.reverse_counts += n
-            return (0, n)
-        self.pos_frac = frac
-        return NO_PULSES
+    def target(self, on, rev, go, f_ref):
+        """The rate a step would leave as it is: the reference, or rest."""
+        if on and go and not self.stalled:
+            return -f_ref if rev else f_ref
+        return 0.0
 
     def steady(self, on, rev, go, f_ref):
         """Would a step leave the rate as it is (at its target, or at rest)?"""
-        if self.stalled:
-            return self.rate == 0.0
-        if on and go:
-            return self.rate == (-f_ref if rev else f_ref)
-        return self.rate == 0.0
+        return self.rate == self.target(on, rev, go, f_ref)
 
-    def cruise(self, n, go, dt=C.SUB_STEP_S):
-        """n steps at the present, steady rate at once: (fwd, rev) pulses."""
+    def glide(self, start, k, go):
+        """Where a steady stretch (see Stretch) leaves this wheel k sub-steps
+        after its `start` (pos_frac, forward and reverse counts, counts per
+        sub-step); -> the (fwd, rev) pulses that are new since the last
+        call. The whole counts of pos_frac + k * travel are delivered,
+        truncated toward zero as `step` truncates them."""
+        frac0, fwd0, rev0, per_step = start
         self.go = go
-        if not self.rate:
-            self.travel = 0.0
-            return NO_PULSES
-        pulses = self._advance(self.rate * dt * n)
-        self.travel = self.rate * dt
-        return pulses
+        self.travel = per_step
+        frac = frac0 + per_step * k
+        whole = int(frac)
+        self.pos_frac = frac - whole
+        if whole > 0:
+            n, self.forward_counts = fwd0 + whole - self.forward_counts, fwd0 + whole
+            return (n, 0) if n else NO_PULSES
+        if whole < 0:
+            n, self.reverse_counts = rev0 - whole - self.reverse_counts, rev0 - whole
+            return (0, n) if n else NO_PULSES
+        return NO_PULSES
 
     def locked(self, f_ref):
         """PLL lock: GO set and |rate| within 5 % of f_ref."""
@@ -360,19 +368,26 @@ class Robot:
         self._cos = math.cos(self.heading_rad)
         self._sin = math.sin(self.heading_rad)
 
-    def arc(self, s_left, s_right):
-        """Move along the exact arc (or line) of the wheels' travel, inches."""
+    @property
+    def start(self):
+        """The pose as `arc` starts from: (x, y, heading_rad, cos, sin)."""
+        return (self.x, self.y, self.heading_rad, self._cos, self._sin)
+
+    def arc(self, start, s_left, s_right):
+        """Stand where the exact arc (or line) of the wheels' travel, inches,
+        ends when it begins at `start` (see `start`)."""
+        x, y, heading, cos, sin = start
         ds = (s_left + s_right) * 0.5
         if s_left == s_right:
-            self.x += ds * self._cos
-            self.y += ds * self._sin
+            self.x, self.y = x + ds * cos, y + ds * sin
+            self.heading_rad, self._cos, self._sin = heading, cos, sin
             return
         turn = (s_right - s_left) / self.TRACK_IN
         chord = ds * math.sin(turn / 2) / (turn / 2)
-        mid = self.heading_rad + turn * 0.5
-        self.x += chord * math.cos(mid)
-        self.y += chord * math.sin(mid)
-        self.heading = math.degrees(self.heading_rad + turn)
+        mid = heading + turn * 0.5
+        self.x, self.y = x + chord * math.cos(mid), y + chord * math.sin(mid)
+        self.heading_rad = heading = heading + turn
+        self._cos, self._sin = math.cos(heading), math.sin(heading)
 
     def move(self, s_left, s_right):
         """Apply one sub-step of wheel travel in inches (forward positive)."""
@@ -391,6 +406,46 @@ class Robot:
 
 
 # ---------------------------------------------------------------------------
+# STEADY STRETCHES: the state a closed form of the time
+# ---------------------------------------------------------------------------
+
+class Stretch:
+    """A run of sub-steps in which both wheels hold their rates (Drive.cruise).
+
+    The state k sub-steps after the stretch began is a closed form of k,
+    from what it began with (pos_frac f0, counts, pose x0 y0 h0):
+
+        wheel w   f = f0_w + v_w * k          v_w = rate_w * dt, counts
+                  int(f) more counts delivered (toward zero, as a step
+                  does), f - int(f) left in pos_frac
+        robot     s_w = v_w * k / COUNTS_PER_INCH, ds = (s_l + s_r) / 2,
+                  turn = (s_r - s_l) / TRACK_IN, t = turn / 2
+                  x = x0 + ds * sin(t) / t * cos(h0 + t), y likewise with
+                  sin(h0 + t), heading h0 + turn (the exact arc, Robot.arc;
+                  a straight line when turn = 0)
+
+    One multiplication, not k additions: the state after k sub-steps is
+    one value however the k were cut into calls. So the board may bring
+    the physics up at whatever moments it likes (every port access, or
+    only those the physics must see) and gets the same bits, and cruising
+    k sub-steps one at a time equals cruising them at once, by
+    construction (tests/test_motors.py and test_board.py cut stretches at
+    random). The stepped sub-steps (Wheel.step, Robot.move) sum instead:
+    an Euler step of a rate that changes.
+    """
+
+    def __init__(self, drive, dt):
+        self.dt = dt
+        self.steps = 0
+        self.wheels = tuple((w.pos_frac, w.forward_counts, w.reverse_counts, w.rate * dt)
+                            for w in (drive.left, drive.right))
+        self.pose = drive._robot.start
+        self.placed = 0                      # the sub-steps the robot stands at
+        self.pose_at = self.pose[:3]         # where this stretch last stood it
+        self.left_at = None                  # Drive._where after the last cruise
+
+
+# ---------------------------------------------------------------------------
 # THE WHOLE MECHANISM
 # ---------------------------------------------------------------------------
 
@@ -400,6 +455,10 @@ class Drive:
     Parts: `left` (motor 1) and `right` (motor 2) wheels, `lift`, `gripper`,
     `robot` (pose). Beeper: `beeper` (sounding now) and `beeper_s` (seconds
     sounded in total). Fault: `charger` (sitting on the charging contacts).
+
+    During a steady stretch the pose is worked out only when someone looks
+    at `robot` (or a step follows): the wheels' counts are needed at every
+    port access, the pose seldom.
     """
 
     COUNTS_PER_INCH = C.COUNTS_PER_INCH
@@ -409,41 +468,100 @@ class Drive:
         self.right = Wheel()
         self.lift = Lift()
         self.gripper = Gripper()
-        self.robot = Robot()
+        self._robot = Robot()
         self.beeper = False
         self.beeper_s = 0.0
         self.charger = False
+        self.stretch = None          # the steady stretch under way, if any
+
+    @property
+    def robot(self):
+        """The Robot (pose), where the wheels have brought it."""
+        if self.stretch is not None:
+            self._place()
+        return self._robot
+
+    def _place(self):
+        """Stand the robot where the stretch under way has brought it."""
+        s = self.stretch
+        k = s.steps
+        if s.placed != k:
+            (lstart, rstart), cpi = s.wheels, self.COUNTS_PER_INCH
+            r = self._robot
+            if lstart[3] or rstart[3]:
+                r.arc(s.pose, lstart[3] * k / cpi, rstart[3] * k / cpi)
+            s.placed, s.pose_at = k, (r.x, r.y, r.heading_rad)
 
     def step(self, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """One sub-step; return ((fwd, rev) left pulses, (fwd, rev) right pulses)."""
+        if self.stretch is not None:          # it ends here
+            self._place()
+            self.stretch = None
         m = motor_byte
         lp = self.left.step(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left, dt)
         rp = self.right.step(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right, dt)
         tl, tr = self.left.travel, self.right.travel
         if tl or tr:
             cpi = self.COUNTS_PER_INCH
-            self.robot.move(tl / cpi, tr / cpi)
+            self._robot.move(tl / cpi, tr / cpi)
         if aux_byte or self.beeper:
             self._step_aux(aux_byte, dt)
         return lp, rp
 
+    def advance(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
+        """n sub-steps: one at a time while a rate changes (or the arm,
+        gripper or beeper runs), then at once as a steady stretch (`cruise`)
+        as soon as the drive is `steady`; -> ((fwd, rev) left, (fwd, rev)
+        right) pulses summed."""
+        m, left, right = motor_byte, self.left, self.right
+        lt = left.target(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
+        rt = right.target(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right)
+        busy = aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER)
+        if left.rate == lt and right.rate == rt and not busy and not self.beeper:
+            return self.cruise(n, m, dt)          # steady already (most calls)
+        lf = lr = rf = rr = 0
+        while n > 0:
+            if left.rate == lt and right.rate == rt and not busy and not self.beeper:
+                (a, b), (c, d) = self.cruise(n, m, dt)
+                n = 0
+            else:
+                (a, b), (c, d) = self.step(m, aux_byte, f_ref_left, f_ref_right, dt)
+                n -= 1
+            lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
+        return (lf, lr), (rf, rr)
+
     def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
-        """Nothing but steady wheels: `cruise` may take many steps at once."""
+        """Nothing but steady wheels: `cruise` may take many steps at once
+        (the rule Drive.advance applies with the targets worked out once)."""
         m = motor_byte
         return (not aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER) and not self.beeper
                 and self.left.steady(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
                 and self.right.steady(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right))
 
     def cruise(self, n, motor_byte, dt=C.SUB_STEP_S):
-        """n sub-steps of steady wheels in closed form (see `steady`): the
-        same pulses and, along the exact arc, the same pose as n steps."""
-        lp = self.left.cruise(n, motor_byte & C.M1_GO, dt)
-        rp = self.right.cruise(n, motor_byte & C.M2_GO, dt)
-        tl, tr = self.left.rate * dt * n, self.right.rate * dt * n
-        if tl or tr:
-            cpi = self.COUNTS_PER_INCH
-            self.robot.arc(tl / cpi, tr / cpi)
+        """n sub-steps of steady wheels (see `steady`) at once: the stretch
+        they belong to goes on, or a new one begins here (see Stretch)."""
+        s, r = self.stretch, self._robot
+        if s is None or s.dt != dt or s.left_at != self._where() \
+                or s.pose_at != (r.x, r.y, r.heading_rad):
+            if s is not None:
+                self._place()
+            s = self.stretch = Stretch(self, dt)
+        s.steps += n
+        k = s.steps
+        lstart, rstart = s.wheels
+        lp = self.left.glide(lstart, k, motor_byte & C.M1_GO)
+        rp = self.right.glide(rstart, k, motor_byte & C.M2_GO)
+        s.left_at = self._where()
         return lp, rp
+
+    def _where(self):
+        """The wheels as a stretch carries on from them: if anything else
+        changed them since its last cruise (a test), or moved the robot from
+        where the stretch last stood it (`Sim.place`), a new one begins."""
+        left, right = self.left, self.right
+        return (left.rate, left.pos_frac, left.forward_counts, left.reverse_counts,
+                right.rate, right.pos_frac, right.forward_counts, right.reverse_counts)
 
     def _step_aux(self, aux_byte, dt):
         self.lift.step(aux_byte, dt)

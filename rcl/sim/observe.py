@@ -35,16 +35,19 @@ class Sim:
 
     @property
     def pose(self):
+        self.board.sync()                 # the robot now, not at the last port access
         r = self.drive.robot
         return (r.x, r.y, r.heading)
 
     @property
     def wheel_counts(self):
+        self.board.sync()
         return (self.drive.left.position, self.drive.right.position)
 
     @property
     def wheel_rates(self):
         """Encoder counts per second, signed."""
+        self.board.sync()
         return (self.drive.left.rate, self.drive.right.rate)
 
     @property
@@ -58,10 +61,12 @@ class Sim:
 
     @property
     def arm(self):
+        self.board.sync()
         return self.drive.lift.position
 
     @property
     def jaw(self):
+        self.board.sync()
         return self.drive.gripper.opening
 
     @property
