@@ -114,3 +114,11 @@ def test_help_of_a_word_the_user_defined_again_says_so():
     out = m.evaluate(": FORWARD 1 ; HELP FORWARD")
     assert "Layer 8, command language" in out
     assert "defined again since start-up: SEE FORWARD shows this one" in out
+
+
+@pytest.mark.parametrize("path", ["README.md", os.path.join("docs", "guide.md")])
+def test_the_first_commands_pose_in_the_documents_is_what_rcl_prints(path):
+    text = open(os.path.join(ROOT, path), encoding="utf-8").read()
+    shown = re.search(r"^\s+\.POSE (x .*?deg)  ok$", text, re.M).group(1)
+    out = rcl.open().evaluate("RERB 2 MPH 3.4 FEET FORWARD .POSE")
+    assert out.strip() == shown
