@@ -263,29 +263,15 @@ def test_open_gives_a_machine_on_the_simulated_board_at_power_on():
     assert m.evaluate("2 3 + .") == "5 "
 
 
-@pytest.mark.parametrize("relays, count", [(BOTH_FORWARD, 50), (SPIN_CW, 60)])
-def test_a_stretch_of_accelerating_milliseconds_brought_up_at_once_equals_one_at_a_time(relays, count):
-    # physics_to hands a stepped stretch's pulses to the 8253s once, at its end
+def two_boards_driving(relays, count):
+    """Two boards alike, their wheels told to drive (relays, speed count)."""
     boards = []
     for _ in range(2):
         m = rcl.open(screens=False)
         m.evaluate(LAYER)
         drive(m, relays, count)
         boards.append(m.sim.board)
-    at_once, one_by_one = boards
-    start = at_once.physics_ms
-    at_once.physics_to(start + 90)
-    for ms in range(start + 1, start + 91):
-        one_by_one.physics_to(ms)
-
-    def state(b):
-        d = b.drive
-        assert not d.steady(b.motor_latch, b.aux_latch, *b.refs)    # still accelerating
-        return ([(w.rate, w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],
-                (d.robot.x, d.robot.y, d.robot.heading_rad),
-                [c.value for chip in b.chips.values() for c in chip.counters[1:]])
-    assert state(at_once) == state(one_by_one)
-    assert at_once.drive.left.forward_counts + at_once.drive.left.reverse_counts > 5
+    return boards
 
 
 def board_state(b):
@@ -294,6 +280,19 @@ def board_state(b):
     return ([(w.rate, w.pos_frac, w.forward_counts, w.reverse_counts) for w in (d.left, d.right)],
             (d.robot.x, d.robot.y, d.robot.heading_rad),
             [c.value for chip in b.chips.values() for c in chip.counters[1:]])
+
+
+@pytest.mark.parametrize("relays, count", [(BOTH_FORWARD, 50), (SPIN_CW, 60)])
+def test_a_stretch_of_accelerating_milliseconds_brought_up_at_once_equals_one_at_a_time(relays, count):
+    # physics_to hands a stepped stretch's pulses to the 8253s once, at its end
+    at_once, one_by_one = two_boards_driving(relays, count)
+    start = at_once.physics_ms
+    at_once.physics_to(start + 90)
+    for ms in range(start + 1, start + 91):
+        one_by_one.physics_to(ms)
+    assert not at_once.drive.steady(at_once.motor_latch, at_once.aux_latch, *at_once.refs)
+    assert board_state(at_once) == board_state(one_by_one)
+    assert at_once.drive.left.forward_counts + at_once.drive.left.reverse_counts > 5
 
 
 def all_counters(b):
@@ -308,13 +307,7 @@ def all_counters(b):
        cuts=st.lists(st.integers(1, 1499), max_size=30))
 def test_the_physics_brought_up_at_any_moments_equals_it_brought_up_at_once(relays, count, cuts):
     # a ramp, then a steady stretch: a port access may come at any millisecond
-    boards = []
-    for _ in range(2):
-        m = rcl.open(screens=False)
-        m.evaluate(LAYER)
-        drive(m, relays, count)
-        boards.append(m.sim.board)
-    at_once, cut = boards
+    at_once, cut = two_boards_driving(relays, count)
     start = at_once.physics_ms
     at_once.physics_to(start + 1500)
     for ms in sorted(set(cuts)) + [1500]:

@@ -9,7 +9,8 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rcl
 from rcl.forth.compiler import source
-from test_compiler_speed import PRIM, Ticker
+from test_compiler_speed import PRIM
+from test_compiler_speed import run as speed_run
 
 # Periods longer than the handler (about 5 primitives) that fall at every
 # offset of a body up to 13 primitives long, and one far longer.
@@ -17,17 +18,9 @@ PERIODS = [k * PRIM + PRIM // 3 for k in range(6, 19)] + [97 * PRIM + 5]
 
 
 def run(program, word, compiled, period, brk=None):
-    m = rcl.Forth()
-    m.compiled = compiled
-    m.evaluate("VARIABLE TICKS  : TICK  1 TICKS +! ;")
-    m.evaluate(program)
-    t = Ticker(m, period, brk)
-    m.attach(t)
-    try:
-        out = m.evaluate(word)
-    except rcl.ForthError as e:
-        out = "error: %s" % e.message
-    return (out, m.stack, m.clock, t.times, list(m.rs), bytes(m.mem)), m
+    """(output, stack, clock, interrupt times, return stack, memory), m."""
+    out, stack, clock, times, _, m, rs, mem = speed_run(program, word, compiled, period, brk)
+    return (out, stack, clock, times, rs, mem), m
 
 
 def same_both_ways(program, word, periods=PERIODS, brk=None):

@@ -36,7 +36,8 @@ def run(program, word, compiled, period, brk=None):
         out = m.evaluate(word)
     except rcl.ForthError as e:
         out = "error: %s" % e.message
-    return out, m.stack, m.clock, t.times, m.evaluate("TICKS @ ."), m
+    rs, mem = list(m.rs), bytes(m.mem)
+    return out, m.stack, m.clock, t.times, m.evaluate("TICKS @ ."), m, rs, mem
 
 
 def same_both_ways(program, word, periods, brk=None):

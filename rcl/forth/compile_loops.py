@@ -320,15 +320,9 @@ class LoopGen:
         self.vs = self.take(r.after[k], ind + 1)
         self.region_end(r, k, term, ind + 1)
         self.emit("else:", ind)
-        self.emit("clk += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl, self.rs_known = list(cells), None, None
         self.index_atom = "_I" if r.uses_i else None
-        self.open_calls, self.rs_unknown = 0, False
-        self.rest = pre + tcost
-        for i in ops:
-            self.rest -= i.cost
-            self.op_simple(i, ind + 1)
-        self.rest = 0
+        self.fast_ops(ops, pre + tcost, ind + 1)
         self.region_end(r, k, term, ind + 1)
         self.carrying = False
 

@@ -298,16 +298,21 @@ class Gen(BlockGen, LoopGen):
         self.terminator(term, k, ind + 1)
         self.docol_checked = checked
         self.emit("else:", ind)
-        self.emit("clk += %d" % (pre + tcost), ind + 1)
         self.vs, self.dpl, self.index_atom, self.rs_known = [], None, None, None
-        self.open_calls, self.rs_unknown = 0, False
-        self.rest = pre + tcost
-        for i in ops:
-            self.rest -= i.cost
-            self.op_simple(i, ind + 1)
-        self.rest = 0
+        self.fast_ops(ops, pre + tcost, ind + 1)
         self.terminator(term, k, ind + 1)
         self.docol_checked = False
+
+    def fast_ops(self, ops, cost, ind):
+        """The fast path's body: the block's whole cost at once, then its
+        primitives pasted (op_simple), `rest` the cost still ahead of each."""
+        self.emit("clk += %d" % cost, ind)
+        self.open_calls, self.rs_unknown = 0, False
+        self.rest = cost
+        for i in ops:
+            self.rest -= i.cost
+            self.op_simple(i, ind)
+        self.rest = 0
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
