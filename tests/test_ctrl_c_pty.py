@@ -52,6 +52,10 @@ def test_ctrl_c_mid_move_stops_the_robot_and_the_tick_goes_on(console, delay):
     # ten hours of simulated driving: not over before the Ctrl-C even on
     # PyPy on a loaded machine (one mile once was)
     console.sendline("RERB 1 MPH 10 MILES FORWARD")
+    # the move is under way, as the status line shows (a Ctrl-C typed
+    # while the prompt still reads the line would be taken as a key there,
+    # and the move would run its ten hours)
+    console.expect_exact("moving")
     time.sleep(delay)
     console.sendintr()
     console.expect_exact("Interrupted")
