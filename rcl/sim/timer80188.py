@@ -183,6 +183,13 @@ class Timer:
         if n < d:                   # most calls: no expiry on the way
             self.count = (self.count + n) & 0xFFFF
             return 0, None
+        if self.control & (CONT | ALT) == CONT:
+            # One max count, restarting (every tick's timers): the loop
+            # below in closed form, the expiry at d, then whole periods.
+            periods, self.count = divmod(n - d, self.limit())
+            self.expiries += 1 + periods
+            self.control |= MC
+            return 1 + periods, d
         while (self.control & (EN)) and n >= d:
             n -= d
             first = first or d
