@@ -325,6 +325,20 @@ class Timer80188:
         self.catch_up(now)
         if self.timer_control & TIMER_MASK or self.in_service:
             return None
+        return self.next_request()
+
+    def upcoming(self, now):
+        """Clock of the next timer request, in service or not (as
+        next_interrupt would give once the EOI is sent)."""
+        self.catch_up(now)
+        if self.timer_control & TIMER_MASK:
+            return None
+        return self.next_request()
+
+    def next_request(self):
+        """The clock of the first latched request, else of the soonest
+        expiry that will request (None if none will): the chip is up to
+        date and neither masked nor in service."""
         first = None                # a latched request comes first
         for t in self.timers:
             at = t.pending_at
@@ -332,21 +346,15 @@ class Timer80188:
                 first = at
         if first is not None:
             return first
+        prescaler = None
         for t in self.timers:       # else the soonest expiry that requests
             if t.control & EN and t.control & INT:
-                at = self.next_expiry(t)
+                if prescaler is None:
+                    prescaler = self.prescaler()
+                at = self.next_expiry(t, prescaler)
                 if at is not None and (first is None or at < first):
                     first = at
         return first
-
-    def upcoming(self, now):
-        """Clock of the next timer request, in service or not (as
-        next_interrupt would give once the EOI is sent)."""
-        in_service, self.in_service = self.in_service, False
-        try:
-            return self.next_interrupt(now)
-        finally:
-            self.in_service = in_service
 
     def acknowledge(self, now):
         """The CPU takes the timer interrupt: return its type, set in-service."""
@@ -378,17 +386,20 @@ class Timer80188:
         t0.requests -= n
         return n
 
-    def next_expiry(self, timer):
+    def next_expiry(self, timer, prescaler=None):
         """Clock of the timer's next expiry from the present state, or None."""
-        edge = self.input_edge(timer, timer.steps_to_expiry(), self.prescaler())
+        edge = self.input_edge(timer, timer.steps_to_expiry(), prescaler or self.prescaler())
         return None if edge is None else (self.clock // TIMER_CLOCK + edge) * TIMER_CLOCK
 
     # -- lazy time ---------------------------------------------------------
 
-    def prescaler(self):
-        """Timer 2 as a clock source: (on, first expiry edge, period, continuous)."""
+    def prescaler(self, state=None):
+        """Timer 2 as a clock source: (on, first expiry edge, period,
+        continuous), from its (count, control) now or as given."""
         t2 = self.timers[2]
-        return (t2.control & (EN)), t2.steps_to_expiry(), t2.limit(), (t2.control & (CONT))
+        count, control = (t2.count, t2.control) if state is None else state
+        period = t2.limit()                 # timer 2 has no max count B
+        return control & EN, (period - count) % COUNT_RANGE or COUNT_RANGE, period, control & CONT
 
     def input_edge(self, timer, k, prescaler):
         """2 MHz edge (1 = the next one) of the timer's k-th input clock, or None."""
@@ -412,19 +423,22 @@ class Timer80188:
             self.clock = now
             return
         t0, t1, t2 = self.timers
-        # timer 2 as it stood at the start, for a timer it prescales (P set)
-        prescaler = self.prescaler() if (t0.control | t1.control) & P else None
+        t2_before = t2.count, t2.control    # what a timer it prescales (P) counted
         ticks2, first2 = t2.advance(edges)
         if ticks2:
             self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
-            if not timer.control & EN:      # a stopped timer neither counts nor requests
+            control = timer.control
+            if not control & EN or control & EXT:   # stopped, or the pin (never counts)
                 continue
-            source = timer.source()
-            n = edges if source == INTERNAL else ticks2 if source == PRESCALED else 0
+            n = ticks2 if control & P else edges
+            if not n:
+                continue
             expired, first = timer.advance(n)
             if expired:
-                self.latch(timer, expired, self.input_edge(timer, first, prescaler), base)
+                edge = first if not control & P else \
+                    self.input_edge(timer, first, self.prescaler(t2_before))
+                self.latch(timer, expired, edge, base)
         self.clock = now
 
     def latch(self, timer, expired, first_edge, base):
