@@ -179,8 +179,10 @@ class SimBoard(Board):
     def _write_reference(self, base, byte, now):
         """Counter 0, the speed reference: a count's byte."""
         counter = self.chips[base].counters[0]
-        if counter.write_acts():            # else CLK may catch up later, as if before
-            self._clock_ref(base, now)
+        if not counter.write_acts(byte):    # CLK may catch up later, as if before
+            counter.write(byte)
+            return
+        self._clock_ref(base, now)
         if counter.write(byte):
             self._new_references(now)
 
