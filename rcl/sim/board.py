@@ -62,6 +62,8 @@ class SimBoard(Board):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
         self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
+        self.encoders = (self.chips[C.LEFT_8253].counters[1:]      # the wheels' CLK1 CLK2
+                         + self.chips[C.RIGHT_8253].counters[1:])
         self.clk0 = {C.LEFT_8253: 0, C.RIGHT_8253: 0}   # 125 kHz pulses delivered
         self.drive = Drive()
         self.motor_latch = 0
@@ -326,15 +328,15 @@ class SimBoard(Board):
 
     def deliver(self, pulses):
         (lf, lr), (rf, rr) = pulses
-        left, right = self.chips[C.LEFT_8253].counters, self.chips[C.RIGHT_8253].counters
+        left_fwd, left_rev, right_fwd, right_rev = self.encoders
         if lf:
-            left[1].clock(lf)
+            left_fwd.clock(lf)
         if lr:
-            left[2].clock(lr)
+            left_rev.clock(lr)
         if rf:
-            right[1].clock(rf)
+            right_fwd.clock(rf)
         if rr:
-            right[2].clock(rr)
+            right_rev.clock(rr)
 
     # -------------------------------------------------------- interrupts
     def refresh_due(self):

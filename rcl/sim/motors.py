@@ -47,8 +47,10 @@ import math
 
 from rcl.errors import RclError
 from rcl.sim import constants as C
+from rcl.sim.constants import M1_GO, M1_ON, M1_REV, M2_GO, M2_ON, M2_REV
 
 NO_PULSES = (0, 0)
+AUX_BUSY = C.ARM_ON | C.GRIP_ON | C.BEEPER      # AUX bits that keep sub-steps stepped
 MICRO = 1_000_000           # lift and gripper positions are kept in micro-inches
 
 
@@ -514,9 +516,9 @@ class Drive:
         as soon as the drive is `steady`; -> ((fwd, rev) left, (fwd, rev)
         right) pulses summed."""
         m, left, right = motor_byte, self.left, self.right
-        lt = left.target(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
-        rt = right.target(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right)
-        busy = aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER)
+        lt = left.target(m & M1_ON, m & M1_REV, m & M1_GO, f_ref_left)
+        rt = right.target(m & M2_ON, m & M2_REV, m & M2_GO, f_ref_right)
+        busy = aux_byte & AUX_BUSY
         if left.rate == lt and right.rate == rt and not busy and not self.beeper:
             return self.cruise(n, m, dt)          # steady already (most calls)
         lf = lr = rf = rr = 0
@@ -534,7 +536,7 @@ class Drive:
         """Nothing but steady wheels: `cruise` may take many steps at once
         (the rule Drive.advance applies with the targets worked out once)."""
         m = motor_byte
-        return (not aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER) and not self.beeper
+        return (not aux_byte & AUX_BUSY and not self.beeper
                 and self.left.steady(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
                 and self.right.steady(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right))
 
@@ -550,8 +552,8 @@ class Drive:
         s.steps += n
         k = s.steps
         lstart, rstart = s.wheels
-        lp = self.left.glide(lstart, k, motor_byte & C.M1_GO)
-        rp = self.right.glide(rstart, k, motor_byte & C.M2_GO)
+        lp = self.left.glide(lstart, k, motor_byte & M1_GO)
+        rp = self.right.glide(rstart, k, motor_byte & M2_GO)
         s.left_at = self._where()
         return lp, rp
 
