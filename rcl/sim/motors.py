@@ -496,19 +496,36 @@ class Drive:
 
     def step(self, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """One sub-step; return ((fwd, rev) left pulses, (fwd, rev) right pulses)."""
+        _, lf, lr, rf, rr = self._stepped(1, motor_byte, aux_byte, f_ref_left, f_ref_right, dt)
+        return (lf, lr), (rf, rr)
+
+    def _stepped(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt, until=None):
+        """Sub-steps one at a time (the Euler steps of the module doc): n
+        of them, or fewer when after one the wheels' rates are `until`
+        (their targets) and the arm, gripper and beeper rest; -> (sub-steps
+        taken, left fwd, left rev, right fwd, right rev pulses summed).
+        The loop of a ramp (10 a tick while a speed changes): what stays
+        the same from one sub-step to the next is looked up once."""
         if self.stretch is not None:          # it ends here
             self._place()
             self.stretch = None
-        m = motor_byte
-        lp = self.left.step(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left, dt)
-        rp = self.right.step(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right, dt)
-        tl, tr = self.left.travel, self.right.travel
-        if tl or tr:
-            cpi = self.COUNTS_PER_INCH
-            self._robot.move(tl / cpi, tr / cpi)
-        if aux_byte or self.beeper:
-            self._step_aux(aux_byte, dt)
-        return lp, rp
+        m, left, right, robot = motor_byte, self.left, self.right, self._robot
+        l_on, l_rev, l_go = m & M1_ON, m & M1_REV, m & M1_GO
+        r_on, r_rev, r_go = m & M2_ON, m & M2_REV, m & M2_GO
+        cpi, busy = self.COUNTS_PER_INCH, aux_byte & AUX_BUSY
+        lf = lr = rf = rr = taken = 0
+        while True:
+            a, b = left.step(l_on, l_rev, l_go, f_ref_left, dt)
+            c, d = right.step(r_on, r_rev, r_go, f_ref_right, dt)
+            tl, tr = left.travel, right.travel
+            if tl or tr:
+                robot.move(tl / cpi, tr / cpi)
+            if aux_byte or self.beeper:
+                self._step_aux(aux_byte, dt)
+            lf, lr, rf, rr, taken = lf + a, lr + b, rf + c, rr + d, taken + 1
+            if taken == n or (until is not None and (left.rate, right.rate) == until
+                              and not busy and not self.beeper):
+                return taken, lf, lr, rf, rr
 
     def advance(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """n sub-steps: one at a time while a rate changes (or the arm,
@@ -521,14 +538,11 @@ class Drive:
         busy = aux_byte & AUX_BUSY
         if left.rate == lt and right.rate == rt and not busy and not self.beeper:
             return self.cruise(n, m, dt)          # steady already (most calls)
-        lf = lr = rf = rr = 0
-        while n > 0:
-            if left.rate == lt and right.rate == rt and not busy and not self.beeper:
-                (a, b), (c, d) = self.cruise(n, m, dt)
-                n = 0
-            else:
-                (a, b), (c, d) = self.step(m, aux_byte, f_ref_left, f_ref_right, dt)
-                n -= 1
+        if n <= 0:
+            return (0, 0), (0, 0)
+        taken, lf, lr, rf, rr = self._stepped(n, m, aux_byte, f_ref_left, f_ref_right, dt, (lt, rt))
+        if taken < n:                             # steady from here
+            (a, b), (c, d) = self.cruise(n - taken, m, dt)
             lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
         return (lf, lr), (rf, rr)
 
