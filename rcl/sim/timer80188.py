@@ -130,6 +130,12 @@ TIMER_TYPES = (8, 18, 19)           # interrupt type of timer 0, 1, 2 [INTEL]
 INTERNAL, PRESCALED, EXTERNAL = "internal", "prescaled", "external"
 
 
+def clocks_to_expiry(count, limit):
+    """Input clocks from `count` until it next equals the max count `limit`
+    (a count past the max wraps at 0xFFFF)."""
+    return (limit - count) % COUNT_RANGE or COUNT_RANGE
+
+
 class error(RclError):
     """A misuse of the timer chip (time running backwards)."""
 
@@ -171,22 +177,24 @@ class Timer:
         use_b = (self.control & (RIU)) if use_b is None else use_b
         return (self.max_b if use_b else self.max_a) or COUNT_RANGE
 
-    def steps_to_expiry(self):
-        """Input clocks until the count next equals the max count."""
-        return (self.limit() - self.count) % COUNT_RANGE or COUNT_RANGE
+    def steps_to_expiry(self, limit=None):
+        """Input clocks until the count next equals the max count (`limit`
+        if the caller has it)."""
+        return clocks_to_expiry(self.count, limit or self.limit())
 
     def advance(self, n):
         """Count n input clocks; return (expiries, input clock of the first)."""
         if not n or not (self.control & (EN)):
             return 0, None
-        d, first, total = self.steps_to_expiry(), None, 0
+        limit = self.limit()
+        d, first, total = self.steps_to_expiry(limit), None, 0
         if n < d:                   # most calls: no expiry on the way
             self.count = (self.count + n) & 0xFFFF
             return 0, None
         if self.control & (CONT | ALT) == CONT:
             # One max count, restarting (every tick's timers): the loop
             # below in closed form, the expiry at d, then whole periods.
-            periods, self.count = divmod(n - d, self.limit())
+            periods, self.count = divmod(n - d, limit)
             self.expiries += 1 + periods
             self.control |= MC
             return 1 + periods, d
@@ -399,7 +407,7 @@ class Timer80188:
         t2 = self.timers[2]
         count, control = (t2.count, t2.control) if state is None else state
         period = t2.limit()                 # timer 2 has no max count B
-        return control & EN, (period - count) % COUNT_RANGE or COUNT_RANGE, period, control & CONT
+        return control & EN, clocks_to_expiry(count, period), period, control & CONT
 
     def input_edge(self, timer, k, prescaler):
         """2 MHz edge (1 = the next one) of the timer's k-th input clock, or None."""
@@ -425,7 +433,7 @@ class Timer80188:
         t0, t1, t2 = self.timers
         t2_before = t2.count, t2.control    # what a timer it prescales (P) counted
         ticks2, first2 = t2.advance(edges)
-        if ticks2:
+        if ticks2 and t2.control & INT:
             self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
             control = timer.control
@@ -435,16 +443,15 @@ class Timer80188:
             if not n:
                 continue
             expired, first = timer.advance(n)
-            if expired:
+            if expired and timer.control & INT:
                 edge = first if not control & P else \
                     self.input_edge(timer, first, self.prescaler(t2_before))
                 self.latch(timer, expired, edge, base)
         self.clock = now
 
     def latch(self, timer, expired, first_edge, base):
-        """Record the interrupt requests of `expired` expiries of `timer`."""
-        if not expired or not (timer.control & (INT)):
-            return
+        """Record the interrupt requests of `expired` expiries of `timer`
+        (one with INT set: the caller checked)."""
         timer.requests += expired
         if timer.pending_at is None:
             timer.pending_at = (base + first_edge) * TIMER_CLOCK
