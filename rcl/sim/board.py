@@ -360,15 +360,15 @@ class SimBoard(Board):
         fault in it still ends the interrupt, as the BIOS's IRET would).
         The physics is not brought up here: the handler's own port accesses
         do it as far as they need, and the observers see it at the end."""
-        now = m.clock
-        kind = self.pcb.acknowledge(self.pcb_time(now))
+        at = self.pcb_time(m.clock)
+        kind = self.pcb.acknowledge(at)
         if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
                 self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
             self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
             return
         self.ticks += 1
-        nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
+        nxt = self.pcb.upcoming(at)                     # the next tick's time
         try:
             self.bios_tick(m)
         except BaseException:
