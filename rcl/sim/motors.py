@@ -3,8 +3,10 @@
 Section 6 of reference/board-hardware.md, integrated in 1 ms sub-steps. The
 classes have no clock and do no I/O: the board latches the MOTOR and AUX
 bytes, knows each motor's reference frequency from its 8253 counter 0, calls
-`Drive.step` once per sub-step, feeds the returned pulses to counters 1 and 2,
-and answers STATUS reads with `Drive.status_byte`.
+`Drive.advance` for the sub-steps since it last did (stepped one at a time
+while a rate changes, `Drive._stepped`; at once while the wheels hold their
+rates, `Drive.cruise`), feeds the returned pulses to counters 1 and 2, and
+answers STATUS reads with `Drive.status_byte`.
 
     MOTOR byte --+--> Wheel (left,  motor 1) --(fwd, rev)--> 8253 #1 CLK1/CLK2
     f_ref L, R --+--> Wheel (right, motor 2) --(fwd, rev)--> 8253 #2 CLK1/CLK2
