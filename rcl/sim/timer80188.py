@@ -436,17 +436,18 @@ class Timer80188:
         if ticks2 and t2.control & INT:
             self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
-            control = timer.control
-            if not control & EN or control & EXT:   # stopped, or the pin (never counts)
+            if not timer.control & EN:      # a stopped timer neither counts nor requests
                 continue
-            n = ticks2 if control & P else edges
+            source = timer.source()
+            if source == EXTERNAL:          # the pin never counts here
+                continue
+            n = edges if source == INTERNAL else ticks2
             if not n:
                 continue
             expired, first = timer.advance(n)
             if expired and timer.control & INT:
-                edge = first if not control & P else \
-                    self.input_edge(timer, first, self.prescaler(t2_before))
-                self.latch(timer, expired, edge, base)
+                prescaler = self.prescaler(t2_before) if source == PRESCALED else None
+                self.latch(timer, expired, self.input_edge(timer, first, prescaler), base)
         self.clock = now
 
     def latch(self, timer, expired, first_edge, base):
