@@ -4,10 +4,12 @@ Offsets are from the PCB base 0xFF00: 0x56 is timer 0's control at 0xFF56.
 Time is in clock units of 1/36 ns; one timer-0 count (1.5 us) is 54,000.
 """
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rcl.forth.primitives import CLOCK_HZ
 from rcl.sim.timer80188 import (
-    T0_BIOS_COUNT, T0_CLOCK, T0_RCL_COUNT, TIMER_CLOCK, Timer80188, error)
+    T0_BIOS_COUNT, T0_CLOCK, T0_RCL_COUNT, TIMER_CLOCK, Timer, Timer80188, error)
 
 T0_COUNT, T0_MAX_A, T0_CONTROL = 0x50, 0x52, 0x56
 T1_COUNT, T1_MAX_A, T1_CONTROL = 0x58, 0x5A, 0x5E
@@ -305,3 +307,23 @@ def test_one_big_catch_up_agrees_with_stepping_one_timer_clock_at_a_time():
         [stepped.read16(r, end) for r in registers]
     assert [t.pending_at for t in lazy.timers] == [t.pending_at for t in stepped.timers]
     assert [t.requests for t in lazy.timers] == [t.requests for t in stepped.timers]
+
+
+@settings(max_examples=200, deadline=None)
+@given(control=st.sampled_from([0x8001, 0x8003, 0x8000, 0xA001, 0x9003]),
+       max_a=st.sampled_from([0, 1, 2, 3, 7, 6667, 65535]), max_b=st.sampled_from([0, 1, 5]),
+       count=st.integers(0, 0xFFFF), n=st.integers(0, 70_000))
+def test_n_input_clocks_at_once_count_as_n_one_at_a_time(control, max_a, max_b, count, n):
+    # Timer.advance's closed form for a restarting timer (and its loop
+    # otherwise) against the datasheet's rule applied clock by clock.
+    at_once, stepped = Timer(0), Timer(0)
+    for t in (at_once, stepped):
+        t.control, t.max_a, t.max_b, t.count = control, max_a, max_b, count
+    expiries, first = at_once.advance(n)
+    total, first_stepped = 0, None
+    for k in range(1, n + 1):
+        if stepped.advance(1)[0]:
+            total, first_stepped = total + 1, first_stepped or k
+    assert (expiries, first) == (total, first_stepped)
+    assert (at_once.count, at_once.control, at_once.expiries) == \
+        (stepped.count, stepped.control, stepped.expiries)

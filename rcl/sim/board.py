@@ -62,6 +62,8 @@ class SimBoard(Board):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
         self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
+        self.encoders = (self.chips[C.LEFT_8253].counters[1:]      # the wheels' CLK1 CLK2
+                         + self.chips[C.RIGHT_8253].counters[1:])
         self.clk0 = {C.LEFT_8253: 0, C.RIGHT_8253: 0}   # 125 kHz pulses delivered
         self.drive = Drive()
         self.motor_latch = 0
@@ -179,8 +181,10 @@ class SimBoard(Board):
     def _write_reference(self, base, byte, now):
         """Counter 0, the speed reference: a count's byte."""
         counter = self.chips[base].counters[0]
-        if counter.write_acts():            # else CLK may catch up later, as if before
-            self._clock_ref(base, now)
+        if not counter.write_acts(byte):    # CLK may catch up later, as if before
+            counter.write(byte)
+            return
+        self._clock_ref(base, now)
         if counter.write(byte):
             self._new_references(now)
 
@@ -324,15 +328,15 @@ class SimBoard(Board):
 
     def deliver(self, pulses):
         (lf, lr), (rf, rr) = pulses
-        left, right = self.chips[C.LEFT_8253].counters, self.chips[C.RIGHT_8253].counters
+        left_fwd, left_rev, right_fwd, right_rev = self.encoders
         if lf:
-            left[1].clock(lf)
+            left_fwd.clock(lf)
         if lr:
-            left[2].clock(lr)
+            left_rev.clock(lr)
         if rf:
-            right[1].clock(rf)
+            right_fwd.clock(rf)
         if rr:
-            right[2].clock(rr)
+            right_rev.clock(rr)
 
     # -------------------------------------------------------- interrupts
     def refresh_due(self):
@@ -356,15 +360,15 @@ class SimBoard(Board):
         fault in it still ends the interrupt, as the BIOS's IRET would).
         The physics is not brought up here: the handler's own port accesses
         do it as far as they need, and the observers see it at the end."""
-        now = m.clock
-        kind = self.pcb.acknowledge(self.pcb_time(now))
+        at = self.pcb_time(m.clock)
+        kind = self.pcb.acknowledge(at)
         if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
                 self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
             self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
             return
         self.ticks += 1
-        nxt = self.pcb.upcoming(self.pcb_time(now))     # the next tick's time
+        nxt = self.pcb.upcoming(at)                     # the next tick's time
         try:
             self.bios_tick(m)
         except BaseException:

@@ -197,11 +197,23 @@ class Counter:
             self._complete(self._lsb | byte << 8)
         return True
 
-    def write_acts(self):
-        """Would a byte written now act on the counting at once? All but the
-        first byte of a two-byte count outside mode 0, which is only kept
-        until the second comes (the board need not bring CLK up for it)."""
-        return not (self._write_lsb_next and self.rw == self.RW_BOTH and self.mode != 0)
+    def write_acts(self, byte):
+        """Would `byte` written now act on the counting at once? Not the
+        first byte of a two-byte count outside mode 0 (it is only kept
+        until the second comes), nor a byte that completes the very count
+        a running mode 2 or 3 counter already reloads from (the control
+        word's speed writes every tick): such a write changes nothing
+        CLK or OUT's frequency depends on, so the board need not bring
+        CLK up for it, nor look at the frequency again."""
+        rw = self.rw
+        if rw == self.RW_BOTH:
+            if self._write_lsb_next:
+                return self.mode == 0
+            word = self._lsb | (byte & self.BYTE_MASK) << 8
+        else:
+            word = (byte & self.BYTE_MASK) << (8 if rw == self.RW_MSB else 0)
+        return not (self.running and self.mode in self.RELOAD_MODES
+                    and (self._decoded(word) or self.modulus) == self.n)
 
     def read(self):
         """A byte read from this counter's address (2.4)."""

@@ -3,8 +3,10 @@
 Section 6 of reference/board-hardware.md, integrated in 1 ms sub-steps. The
 classes have no clock and do no I/O: the board latches the MOTOR and AUX
 bytes, knows each motor's reference frequency from its 8253 counter 0, calls
-`Drive.step` once per sub-step, feeds the returned pulses to counters 1 and 2,
-and answers STATUS reads with `Drive.status_byte`.
+`Drive.advance` for the sub-steps since it last did (stepped one at a time
+while a rate changes, `Drive._stepped`; at once while the wheels hold their
+rates, `Drive.cruise`), feeds the returned pulses to counters 1 and 2, and
+answers STATUS reads with `Drive.status_byte`.
 
     MOTOR byte --+--> Wheel (left,  motor 1) --(fwd, rev)--> 8253 #1 CLK1/CLK2
     f_ref L, R --+--> Wheel (right, motor 2) --(fwd, rev)--> 8253 #2 CLK1/CLK2
@@ -47,8 +49,10 @@ import math
 
 from rcl.errors import RclError
 from rcl.sim import constants as C
+from rcl.sim.constants import M1_GO, M1_ON, M1_REV, M2_GO, M2_ON, M2_REV
 
 NO_PULSES = (0, 0)
+AUX_BUSY = C.ARM_ON | C.GRIP_ON | C.BEEPER      # AUX bits that keep sub-steps stepped
 MICRO = 1_000_000           # lift and gripper positions are kept in micro-inches
 
 
@@ -494,19 +498,36 @@ class Drive:
 
     def step(self, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """One sub-step; return ((fwd, rev) left pulses, (fwd, rev) right pulses)."""
+        _, lf, lr, rf, rr = self._stepped(1, motor_byte, aux_byte, f_ref_left, f_ref_right, dt)
+        return (lf, lr), (rf, rr)
+
+    def _stepped(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt, until=None):
+        """Sub-steps one at a time (the Euler steps of the module doc): n
+        of them, or fewer when after one the wheels' rates are `until`
+        (their targets) and the arm, gripper and beeper rest; -> (sub-steps
+        taken, left fwd, left rev, right fwd, right rev pulses summed).
+        The loop of a ramp (10 a tick while a speed changes): what stays
+        the same from one sub-step to the next is looked up once."""
         if self.stretch is not None:          # it ends here
             self._place()
             self.stretch = None
-        m = motor_byte
-        lp = self.left.step(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left, dt)
-        rp = self.right.step(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right, dt)
-        tl, tr = self.left.travel, self.right.travel
-        if tl or tr:
-            cpi = self.COUNTS_PER_INCH
-            self._robot.move(tl / cpi, tr / cpi)
-        if aux_byte or self.beeper:
-            self._step_aux(aux_byte, dt)
-        return lp, rp
+        m, left, right, robot = motor_byte, self.left, self.right, self._robot
+        l_on, l_rev, l_go = m & M1_ON, m & M1_REV, m & M1_GO
+        r_on, r_rev, r_go = m & M2_ON, m & M2_REV, m & M2_GO
+        cpi, busy = self.COUNTS_PER_INCH, aux_byte & AUX_BUSY
+        lf = lr = rf = rr = taken = 0
+        while True:
+            a, b = left.step(l_on, l_rev, l_go, f_ref_left, dt)
+            c, d = right.step(r_on, r_rev, r_go, f_ref_right, dt)
+            tl, tr = left.travel, right.travel
+            if tl or tr:
+                robot.move(tl / cpi, tr / cpi)
+            if aux_byte or self.beeper:
+                self._step_aux(aux_byte, dt)
+            lf, lr, rf, rr, taken = lf + a, lr + b, rf + c, rr + d, taken + 1
+            if taken == n or (until is not None and (left.rate, right.rate) == until
+                              and not busy and not self.beeper):
+                return taken, lf, lr, rf, rr
 
     def advance(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
         """n sub-steps: one at a time while a rate changes (or the arm,
@@ -514,19 +535,16 @@ class Drive:
         as soon as the drive is `steady`; -> ((fwd, rev) left, (fwd, rev)
         right) pulses summed."""
         m, left, right = motor_byte, self.left, self.right
-        lt = left.target(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
-        rt = right.target(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right)
-        busy = aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER)
+        lt = left.target(m & M1_ON, m & M1_REV, m & M1_GO, f_ref_left)
+        rt = right.target(m & M2_ON, m & M2_REV, m & M2_GO, f_ref_right)
+        busy = aux_byte & AUX_BUSY
         if left.rate == lt and right.rate == rt and not busy and not self.beeper:
             return self.cruise(n, m, dt)          # steady already (most calls)
-        lf = lr = rf = rr = 0
-        while n > 0:
-            if left.rate == lt and right.rate == rt and not busy and not self.beeper:
-                (a, b), (c, d) = self.cruise(n, m, dt)
-                n = 0
-            else:
-                (a, b), (c, d) = self.step(m, aux_byte, f_ref_left, f_ref_right, dt)
-                n -= 1
+        if n <= 0:
+            return (0, 0), (0, 0)
+        taken, lf, lr, rf, rr = self._stepped(n, m, aux_byte, f_ref_left, f_ref_right, dt, (lt, rt))
+        if taken < n:                             # steady from here
+            (a, b), (c, d) = self.cruise(n - taken, m, dt)
             lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
         return (lf, lr), (rf, rr)
 
@@ -534,7 +552,7 @@ class Drive:
         """Nothing but steady wheels: `cruise` may take many steps at once
         (the rule Drive.advance applies with the targets worked out once)."""
         m = motor_byte
-        return (not aux_byte & (C.ARM_ON | C.GRIP_ON | C.BEEPER) and not self.beeper
+        return (not aux_byte & AUX_BUSY and not self.beeper
                 and self.left.steady(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
                 and self.right.steady(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right))
 
@@ -550,8 +568,8 @@ class Drive:
         s.steps += n
         k = s.steps
         lstart, rstart = s.wheels
-        lp = self.left.glide(lstart, k, motor_byte & C.M1_GO)
-        rp = self.right.glide(rstart, k, motor_byte & C.M2_GO)
+        lp = self.left.glide(lstart, k, motor_byte & M1_GO)
+        rp = self.right.glide(rstart, k, motor_byte & M2_GO)
         s.left_at = self._where()
         return lp, rp
 

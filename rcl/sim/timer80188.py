@@ -130,6 +130,12 @@ TIMER_TYPES = (8, 18, 19)           # interrupt type of timer 0, 1, 2 [INTEL]
 INTERNAL, PRESCALED, EXTERNAL = "internal", "prescaled", "external"
 
 
+def clocks_to_expiry(count, limit):
+    """Input clocks from `count` until it next equals the max count `limit`
+    (a count past the max wraps at 0xFFFF)."""
+    return (limit - count) % COUNT_RANGE or COUNT_RANGE
+
+
 class error(RclError):
     """A misuse of the timer chip (time running backwards)."""
 
@@ -171,18 +177,27 @@ class Timer:
         use_b = (self.control & (RIU)) if use_b is None else use_b
         return (self.max_b if use_b else self.max_a) or COUNT_RANGE
 
-    def steps_to_expiry(self):
-        """Input clocks until the count next equals the max count."""
-        return (self.limit() - self.count) % COUNT_RANGE or COUNT_RANGE
+    def steps_to_expiry(self, limit=None):
+        """Input clocks until the count next equals the max count (`limit`
+        if the caller has it)."""
+        return clocks_to_expiry(self.count, limit or self.limit())
 
     def advance(self, n):
         """Count n input clocks; return (expiries, input clock of the first)."""
         if not n or not (self.control & (EN)):
             return 0, None
-        d, first, total = self.steps_to_expiry(), None, 0
+        limit = self.limit()
+        d, first, total = self.steps_to_expiry(limit), None, 0
         if n < d:                   # most calls: no expiry on the way
             self.count = (self.count + n) & 0xFFFF
             return 0, None
+        if self.control & (CONT | ALT) == CONT:
+            # One max count, restarting (every tick's timers): the loop
+            # below in closed form, the expiry at d, then whole periods.
+            periods, self.count = divmod(n - d, limit)
+            self.expiries += 1 + periods
+            self.control |= MC
+            return 1 + periods, d
         while (self.control & (EN)) and n >= d:
             n -= d
             first = first or d
@@ -318,6 +333,20 @@ class Timer80188:
         self.catch_up(now)
         if self.timer_control & TIMER_MASK or self.in_service:
             return None
+        return self.next_request()
+
+    def upcoming(self, now):
+        """Clock of the next timer request, in service or not (as
+        next_interrupt would give once the EOI is sent)."""
+        self.catch_up(now)
+        if self.timer_control & TIMER_MASK:
+            return None
+        return self.next_request()
+
+    def next_request(self):
+        """The clock of the first latched request, else of the soonest
+        expiry that will request (None if none will): the chip is up to
+        date and neither masked nor in service."""
         first = None                # a latched request comes first
         for t in self.timers:
             at = t.pending_at
@@ -325,21 +354,15 @@ class Timer80188:
                 first = at
         if first is not None:
             return first
+        prescaler = None
         for t in self.timers:       # else the soonest expiry that requests
             if t.control & EN and t.control & INT:
-                at = self.next_expiry(t)
+                if prescaler is None:
+                    prescaler = self.prescaler()
+                at = self.next_expiry(t, prescaler)
                 if at is not None and (first is None or at < first):
                     first = at
         return first
-
-    def upcoming(self, now):
-        """Clock of the next timer request, in service or not (as
-        next_interrupt would give once the EOI is sent)."""
-        in_service, self.in_service = self.in_service, False
-        try:
-            return self.next_interrupt(now)
-        finally:
-            self.in_service = in_service
 
     def acknowledge(self, now):
         """The CPU takes the timer interrupt: return its type, set in-service."""
@@ -371,17 +394,20 @@ class Timer80188:
         t0.requests -= n
         return n
 
-    def next_expiry(self, timer):
+    def next_expiry(self, timer, prescaler=None):
         """Clock of the timer's next expiry from the present state, or None."""
-        edge = self.input_edge(timer, timer.steps_to_expiry(), self.prescaler())
+        edge = self.input_edge(timer, timer.steps_to_expiry(), prescaler or self.prescaler())
         return None if edge is None else (self.clock // TIMER_CLOCK + edge) * TIMER_CLOCK
 
     # -- lazy time ---------------------------------------------------------
 
-    def prescaler(self):
-        """Timer 2 as a clock source: (on, first expiry edge, period, continuous)."""
+    def prescaler(self, state=None):
+        """Timer 2 as a clock source: (on, first expiry edge, period,
+        continuous), from its (count, control) now or as given."""
         t2 = self.timers[2]
-        return (t2.control & (EN)), t2.steps_to_expiry(), t2.limit(), (t2.control & (CONT))
+        count, control = (t2.count, t2.control) if state is None else state
+        period = t2.limit()                 # timer 2 has no max count B
+        return control & EN, clocks_to_expiry(count, period), period, control & CONT
 
     def input_edge(self, timer, k, prescaler):
         """2 MHz edge (1 = the next one) of the timer's k-th input clock, or None."""
@@ -405,25 +431,28 @@ class Timer80188:
             self.clock = now
             return
         t0, t1, t2 = self.timers
-        # timer 2 as it stood at the start, for a timer it prescales (P set)
-        prescaler = self.prescaler() if (t0.control | t1.control) & P else None
+        t2_before = t2.count, t2.control    # what a timer it prescales (P) counted
         ticks2, first2 = t2.advance(edges)
-        if ticks2:
+        if ticks2 and t2.control & INT:
             self.latch(t2, ticks2, first2, base)
         for timer in (t0, t1):
             if not timer.control & EN:      # a stopped timer neither counts nor requests
                 continue
             source = timer.source()
-            n = edges if source == INTERNAL else ticks2 if source == PRESCALED else 0
+            if source == EXTERNAL:          # the pin never counts here
+                continue
+            n = edges if source == INTERNAL else ticks2
+            if not n:
+                continue
             expired, first = timer.advance(n)
-            if expired:
+            if expired and timer.control & INT:
+                prescaler = self.prescaler(t2_before) if source == PRESCALED else None
                 self.latch(timer, expired, self.input_edge(timer, first, prescaler), base)
         self.clock = now
 
     def latch(self, timer, expired, first_edge, base):
-        """Record the interrupt requests of `expired` expiries of `timer`."""
-        if not expired or not (timer.control & (INT)):
-            return
+        """Record the interrupt requests of `expired` expiries of `timer`
+        (one with INT set: the caller checked)."""
         timer.requests += expired
         if timer.pending_at is None:
             timer.pending_at = (base + first_edge) * TIMER_CLOCK
