@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 import rcl
 from rcl.forth.compiler import source
 from test_compiler_speed import PRIM
-from test_compiler_speed import run as speed_run
+from test_compiler_speed import near_overflow, run as speed_run
 
 # Periods longer than the handler (about 5 primitives) that fall at every
 # offset of a body up to 13 primitives long, and one far longer.
@@ -188,24 +188,8 @@ def test_loop_shape_finds_if_else_then_and_a_begin_loop_in_the_jumps():
 
 def test_an_inlined_call_in_a_loop_of_several_blocks_overflows_the_return_stack_where_the_real_call_does():
     program = ": SQ  DUP * ;  : W  0 5 0 DO  I 2 MOD IF  I SQ +  ELSE  1+  THEN  LOOP ;"
-    out = []
-    for compiled in (True, False):
-        m = rcl.Forth()
-        m.compiled = compiled
-        m.evaluate(program)
-        seen = []
-        for depth in range(990, 999):
-            m.rs.extend([0] * depth)
-            try:
-                m.evaluate("W")
-                seen.append(("ok", len(m.rs), m.stack))
-            except rcl.ForthError as e:
-                seen.append((e.message, m.stack))
-            del m.rs[:], m.s[:]
-            seen.append(m.clock)
-        out.append(seen)
-        if compiled:
-            assert in_a_while(m, "W")
+    out, m = near_overflow(program, "W", range(990, 999))
+    assert in_a_while(m, "W")
     assert out[0] == out[1]
     assert any(s[0] == "ok" for s in out[0][::2]) and any(s[0] != "ok" for s in out[0][::2])
 

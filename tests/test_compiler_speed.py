@@ -176,28 +176,37 @@ def test_an_error_inside_compiled_code_leaves_the_clock_where_the_block_put_it()
     assert m.clock > before + 50 * 3 * PRIM          # the loop's time up to the error is kept
 
 
+def near_overflow(program, line, depths):
+    """What line does at each return-stack depth in depths (its output or
+    error, the depth, the stack, the clock), compiled and by the reference
+    loop; -> ([compiled, reference], the compiled run's machine)."""
+    out, machines = [], []
+    for compiled in (True, False):
+        m = rcl.Forth()
+        m.compiled = compiled
+        m.evaluate(program)
+        seen = []
+        for depth in depths:
+            m.rs.extend([0] * depth)
+            try:
+                m.evaluate(line)
+                seen.append(("ok", len(m.rs), m.stack))
+            except rcl.ForthError as e:
+                seen.append((e.message, m.stack))
+            del m.rs[:], m.s[:]
+            seen.append(m.clock)
+        out.append(seen)
+        machines.append(m)
+    return out, machines[0]
+
+
 def test_an_inlined_call_after_code_that_grows_the_return_stack_overflows_where_the_real_call_does():
     # >R (a template), N>R (Python code) and a locals frame before SQ's
     # inlined call, at every return-stack depth near the limit
     program = (": SQ  DUP * ;  : A  1 2 >R 5 SQ R> ;  : B  1 2 3 3 N>R 7 SQ NR> ;"
                "  : C  4 {: a b :} a SQ b ;")
     for word in ("A", "B", "C"):
-        out = []
-        for compiled in (True, False):
-            m = rcl.Forth()
-            m.compiled = compiled
-            m.evaluate(program)
-            seen = []
-            for depth in range(990, 1000):
-                m.rs.extend([0] * depth)
-                try:
-                    m.evaluate("9 8 " + word)
-                    seen.append(("ok", len(m.rs), m.stack))
-                except rcl.ForthError as e:
-                    seen.append((e.message, m.stack))
-                del m.rs[:], m.s[:]
-                seen.append(m.clock)
-            out.append(seen)
+        out, _ = near_overflow(program, "9 8 " + word, range(990, 1000))
         assert out[0] == out[1], word
         assert "Return Stack Overflow" in str(out[0]) and "ok" in str(out[0]), word
 
