@@ -24,7 +24,7 @@ stack too:
             t3 = (_i + _lim) & 0xFFFF         # I
             t4 = (_c + t3) & 0xFFFF           # +
             _c = t4
-        if _i != 32767: _i = _i + 1 & 0xFFFF; continue
+        if _i != 32767: _i = (_i + 1) & 0xFFFF; continue
         break
     s.append(_c)
     del rs[-3:]
@@ -118,9 +118,10 @@ control.goes_on instead of calling LOOP_STEP. Where loop_shape cannot find
 a shape (jumps that cross), the blocks are gone through with guards
 `if b <= k` inside the while, as in the rest of a definition.
 """
-from rcl.forth.control import LAST_INDEX, goes_on
+from rcl.forth.control import goes_on
 from rcl.forth.decode import NO_TERMINATOR, literal_template
 from rcl.forth.loop_shape import find_regions, loop_op, shape
+
 
 def push(cells):
     """The statement (after "; ") that pushes cells on the real stack."""
@@ -219,12 +220,9 @@ class LoopGen:
         self.lines.extend(lines)
         if carry and out != "_c":
             self.emit("_c = %s" % out, ind + 2)
-        if plus:
+        if plus:                  # named even when known: the slow path pops its own
             self.emit("_n = %s" % step, ind + 2)
-            self.emit("_y = LOOP_STEP(_i, _n)", ind + 1)
-            self.emit("if _y is not None: _i = _y; continue", ind + 1)
-        else:
-            self.emit("if _i != %d: _i = _i + 1 & 0xFFFF; continue" % LAST_INDEX, ind + 1)
+        self.step_index("_n" if plus else "1", "; continue", ind + 1)
         self.emit("break", ind + 1)
         if carry:
             self.emit("s.append(_c)", ind)
@@ -365,10 +363,17 @@ class LoopGen:
         self.flush(ind)
         on = ("; _I = (_i + _lim) & 0xFFFF" if r.uses_i else "") + "; " + (
             "continue" if self.shaped else "b = %d; continue" % r.first)
+        self.step_index(n, on, ind)
+
+    def step_index(self, n, on, ind):
+        """Step the index _i by n (a number known when compiling, or the
+        name holding it) and go round again (`on`), unless the step ends
+        the loop (control.loop_step's rule; goes_on spells it out for a
+        known step)."""
         if n.isdigit():
             self.emit("if %s: _i = (_i + %s) & 0xFFFF%s" % (goes_on("_i", int(n)), n, on), ind)
         else:
-            self.emit("_y = LOOP_STEP(_i, _n)", ind)
+            self.emit("_y = LOOP_STEP(_i, %s)" % n, ind)
             self.emit("if _y is not None: _i = _y" + on, ind)
 
     def dpl_overwritten(self, addr, ind):

@@ -97,10 +97,10 @@ class SimBoard(Board):
 
     # ------------------------------------------------------------ memory
     def low_fetch32(self, a):
-        return int.from_bytes(self.low[a:a + 4], "little")
+        return DWORD.unpack_from(self.low, a)[0]
 
     def low_store32(self, a, v):
-        self.low[a:a + 4] = (v & 0xFFFFFFFF).to_bytes(4, "little")
+        DWORD.pack_into(self.low, a, v & 0xFFFFFFFF)
 
     def set_vector(self, n, seg, off):
         self.low[4 * n:4 * n + 4] = off.to_bytes(2, "little") + seg.to_bytes(2, "little")
@@ -421,11 +421,11 @@ class SimBoard(Board):
 
     def count_ticks(self, n):
         """Add n ticks to the BIOS time of day, wrapping at midnight (flag set)."""
-        per_day = max(1, DWORD.unpack_from(self.low, PER_DAY_ADDR)[0])
-        count = DWORD.unpack_from(self.low, TICKS_ADDR)[0] + n
+        per_day = max(1, self.low_fetch32(PER_DAY_ADDR))
+        count = self.low_fetch32(TICKS_ADDR) + n
         if count >= per_day:
             self.low[MIDNIGHT_ADDR] = 1
-        DWORD.pack_into(self.low, TICKS_ADDR, count % per_day)
+        self.low_store32(TICKS_ADDR, count % per_day)
 
     def tick_period(self):
         """Clock units between timer-0 ticks (prescaled by timer 2 or not)."""

@@ -126,12 +126,11 @@ class Counter:
     @property
     def value(self):
         """The live CE as a number 0..modulus-1."""
-        modulus = self.BCD_MODULUS if self.bcd else self.BINARY_MODULUS
         if self.mode == 3 and self.running:
             # mode 3 loads N rounded down to even, then steps by 2 per CLK
             top = self._period & ~1
-            return (top - 2 * self._half_pos) % modulus
-        return self._ce % modulus
+            return (top - 2 * self._half_pos) % self.modulus
+        return self._ce % self.modulus
 
     def _encoded(self):
         """CE as the 16-bit word on the bus (four BCD digits in BCD mode)."""
@@ -220,11 +219,11 @@ class Counter:
         rw, lsb_next = self.rw, self._read_lsb_next
         if lsb_next and not self.latched:
             self._ol = self._encoded()      # OL follows CE: sample per read
-        if rw == 0b11:                      # RW_BOTH: LSB, then MSB
+        if rw == self.RW_BOTH:              # LSB, then MSB
             byte = self._ol & 0xFF if lsb_next else self._ol >> 8
             lsb_next = self._read_lsb_next = not lsb_next
         else:
-            byte = self._ol >> 8 if rw == 0b10 else self._ol & 0xFF
+            byte = self._ol >> 8 if rw == self.RW_MSB else self._ol & 0xFF
         if lsb_next:
             self.latched = False           # fully read: OL follows CE again
         return byte
@@ -392,10 +391,10 @@ class I8253:
                 byte & cls.BCD_MASK)
 
     def write_control(self, byte):
-        sc = byte >> 6                  # the fields of decode(), as the tick's latches want them fast
-        if sc == 0b11:
+        sc, rw, mode, bcd = self.decode(byte)
+        if sc == self.SC_ILLEGAL:
             return                  # the 8254's read-back; an 8253 ignores it
-        if not byte & 0x30:         # RW 00: the counter latch command
+        if rw == Counter.RW_LATCH:
             self.counters[sc].latch()
         else:
-            self.counters[sc].program(*self.decode(byte)[1:])
+            self.counters[sc].program(rw, mode, bcd)

@@ -176,10 +176,6 @@ class Wheel:
             return -f_ref if rev else f_ref
         return 0.0
 
-    def steady(self, on, rev, go, f_ref):
-        """Would a step leave the rate as it is (at its target, or at rest)?"""
-        return self.rate == self.target(on, rev, go, f_ref)
-
     def glide(self, start, k, go):
         """Where a steady stretch (see Stretch) leaves this wheel k sub-steps
         after its `start` (pos_frac, forward and reverse counts, counts per
@@ -514,7 +510,7 @@ class Drive:
         m, left, right, robot = motor_byte, self.left, self.right, self._robot
         l_on, l_rev, l_go = m & M1_ON, m & M1_REV, m & M1_GO
         r_on, r_rev, r_go = m & M2_ON, m & M2_REV, m & M2_GO
-        cpi, busy = self.COUNTS_PER_INCH, aux_byte & AUX_BUSY
+        cpi = self.COUNTS_PER_INCH
         lf = lr = rf = rr = taken = 0
         while True:
             a, b = left.step(l_on, l_rev, l_go, f_ref_left, dt)
@@ -525,8 +521,7 @@ class Drive:
             if aux_byte or self.beeper:
                 self._step_aux(aux_byte, dt)
             lf, lr, rf, rr, taken = lf + a, lr + b, rf + c, rr + d, taken + 1
-            if taken == n or (until is not None and (left.rate, right.rate) == until
-                              and not busy and not self.beeper):
+            if taken == n or (until is not None and self.holds(until, aux_byte)):
                 return taken, lf, lr, rf, rr
 
     def advance(self, n, motor_byte, aux_byte, f_ref_left, f_ref_right, dt=C.SUB_STEP_S):
@@ -534,27 +529,33 @@ class Drive:
         gripper or beeper runs), then at once as a steady stretch (`cruise`)
         as soon as the drive is `steady`; -> ((fwd, rev) left, (fwd, rev)
         right) pulses summed."""
-        m, left, right = motor_byte, self.left, self.right
-        lt = left.target(m & M1_ON, m & M1_REV, m & M1_GO, f_ref_left)
-        rt = right.target(m & M2_ON, m & M2_REV, m & M2_GO, f_ref_right)
-        busy = aux_byte & AUX_BUSY
-        if left.rate == lt and right.rate == rt and not busy and not self.beeper:
-            return self.cruise(n, m, dt)          # steady already (most calls)
+        targets = self.targets(motor_byte, f_ref_left, f_ref_right)
+        if self.holds(targets, aux_byte):
+            return self.cruise(n, motor_byte, dt)     # steady already (most calls)
         if n <= 0:
-            return (0, 0), (0, 0)
-        taken, lf, lr, rf, rr = self._stepped(n, m, aux_byte, f_ref_left, f_ref_right, dt, (lt, rt))
+            return NO_PULSES, NO_PULSES
+        taken, lf, lr, rf, rr = self._stepped(n, motor_byte, aux_byte, f_ref_left, f_ref_right,
+                                              dt, targets)
         if taken < n:                             # steady from here
-            (a, b), (c, d) = self.cruise(n - taken, m, dt)
+            (a, b), (c, d) = self.cruise(n - taken, motor_byte, dt)
             lf, lr, rf, rr = lf + a, lr + b, rf + c, rr + d
         return (lf, lr), (rf, rr)
 
-    def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
-        """Nothing but steady wheels: `cruise` may take many steps at once
-        (the rule Drive.advance applies with the targets worked out once)."""
+    def targets(self, motor_byte, f_ref_left, f_ref_right):
+        """The rates the wheels settle at under these relays and references."""
         m = motor_byte
-        return (not aux_byte & AUX_BUSY and not self.beeper
-                and self.left.steady(m & C.M1_ON, m & C.M1_REV, m & C.M1_GO, f_ref_left)
-                and self.right.steady(m & C.M2_ON, m & C.M2_REV, m & C.M2_GO, f_ref_right))
+        return (self.left.target(m & M1_ON, m & M1_REV, m & M1_GO, f_ref_left),
+                self.right.target(m & M2_ON, m & M2_REV, m & M2_GO, f_ref_right))
+
+    def holds(self, targets, aux_byte):
+        """The wheels are at these rates and the arm, gripper and beeper
+        rest: nothing changes from one sub-step to the next."""
+        return ((self.left.rate, self.right.rate) == targets
+                and not aux_byte & AUX_BUSY and not self.beeper)
+
+    def steady(self, motor_byte, aux_byte, f_ref_left, f_ref_right):
+        """Nothing but steady wheels: `cruise` may take many steps at once."""
+        return self.holds(self.targets(motor_byte, f_ref_left, f_ref_right), aux_byte)
 
     def cruise(self, n, motor_byte, dt=C.SUB_STEP_S):
         """n sub-steps of steady wheels (see `steady`) at once: the stretch

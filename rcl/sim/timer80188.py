@@ -331,7 +331,7 @@ class Timer80188:
     def next_interrupt(self, now):
         """Clock of the next timer interrupt request (maybe already past)."""
         self.catch_up(now)
-        if self.timer_control & TIMER_MASK or self.in_service:
+        if self.masked or self.in_service:
             return None
         return self.next_request()
 
@@ -339,9 +339,7 @@ class Timer80188:
         """Clock of the next timer request, in service or not (as
         next_interrupt would give once the EOI is sent)."""
         self.catch_up(now)
-        if self.timer_control & TIMER_MASK:
-            return None
-        return self.next_request()
+        return None if self.masked else self.next_request()
 
     def next_request(self):
         """The clock of the first latched request, else of the soonest

@@ -9,8 +9,16 @@ from rcl.forth.primitives import prim
 
 # --------------------------------------------------------------------- memory
 FETCH = "mem[a] | (mem[(a + 1) & 0xFFFF] << 8)"
-STORE = ("mem[b] = a & 0xFF; mem[(b + 1) & 0xFFFF] = a >> 8\n"
-         "if W[b] or W[(b + 1) & 0xFFFF]: m.watched(b)")
+
+
+def cell_store(x, a):
+    """An inline template's text storing cell x at address a (names, or
+    parenthesised expressions), a store into watched memory seen."""
+    return ("mem[{a}] = {x} & 0xFF; mem[({a} + 1) & 0xFFFF] = {x} >> 8\n"
+            "if W[{a}] or W[({a} + 1) & 0xFFFF]: m.watched({a})").format(x=x, a=a)
+
+
+STORE = cell_store("a", "b")
 
 
 @prim("@", "( addr -- x )", inline=("a", (FETCH,)), memory=True)
@@ -49,26 +57,19 @@ def two_fetch(m):
 
 
 @prim("2!", "( d addr -- ) high cell at addr", memory=True,
-      inline=("a b c", (), "mem[c] = b & 0xFF; mem[(c + 1) & 0xFFFF] = b >> 8\n"
-              "if W[c] or W[(c + 1) & 0xFFFF]: m.watched(c)\n"
-              "mem[(c + 2) & 0xFFFF] = a & 0xFF; mem[(c + 3) & 0xFFFF] = a >> 8\n"
-              "if W[(c + 2) & 0xFFFF] or W[(c + 3) & 0xFFFF]: m.watched((c + 2) & 0xFFFF)"))
+      inline=("a b c", (), cell_store("b", "c") + "\n" + cell_store("a", "((c + 2) & 0xFFFF)")))
 def two_store(m):
     s = m.s
     a, hi, lo = s.pop(), s.pop(), s.pop()
     m.memory.dstore(a, lo, hi)
 
 
-@prim("ON", "( addr -- ) store -1", memory=True, inline=("a", (), (
-    "mem[a] = 255; mem[(a + 1) & 0xFFFF] = 255\n"
-    "if W[a] or W[(a + 1) & 0xFFFF]: m.watched(a)")))
+@prim("ON", "( addr -- ) store -1", memory=True, inline=("a", (), cell_store("0xFFFF", "a")))
 def on(m):
     m.memory.store(m.s.pop(), MASK)
 
 
-@prim("OFF", "( addr -- ) store 0", memory=True, inline=("a", (), (
-    "mem[a] = 0; mem[(a + 1) & 0xFFFF] = 0\n"
-    "if W[a] or W[(a + 1) & 0xFFFF]: m.watched(a)")))
+@prim("OFF", "( addr -- ) store 0", memory=True, inline=("a", (), cell_store("0", "a")))
 def off(m):
     m.memory.store(m.s.pop(), 0)
 
