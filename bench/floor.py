@@ -31,6 +31,8 @@ computes.
 import argparse
 import time
 
+from run import best_of          # bench/run.py
+
 REPETITIONS, N = 16, 23
 
 
@@ -105,15 +107,6 @@ def bubble():
     return acc
 
 
-def best_of(k, run):
-    best, result = float('inf'), None
-    for _ in range(k):
-        t0 = time.process_time()
-        result = run()
-        best = min(best, time.process_time() - t0)
-    return best, result
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--repeat', type=int, default=5, metavar='K',
@@ -124,7 +117,7 @@ def main():
     for name, run in (('fib.fs, bare recursion', bare),
                       ('fib.fs, with data and return stacks', stacks),
                       ('bubble.fs, over a 64 KiB bytearray', bubble)):
-        seconds, checksum = best_of(args.repeat, run)
+        seconds, checksum = best_of(args.repeat, run, time.process_time)
         print(f'| {name} | {seconds:.3f} | {checksum} |')
 
 
