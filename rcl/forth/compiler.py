@@ -381,7 +381,7 @@ class Gen(BlockGen, LoopGen):
                 self.block(k, ops, term, ind + 1)
         # Every block ends in a return or a jump, or runs into the next one.
         self.emit("raise RuntimeError('compiled code ran past its last block')", 2)
-        self.lines = [line for line in self.lines if line is not None]   # (branch_test)
+        self.lines = [line for line in self.lines if line is not None]   # (truth() drops a flag)
         if "d0" in self.uses:
             self.uses.add("rs")
         self.lines[1] = "    " + "; ".join(["%s = %s" % (n, v) for n, v in PROLOGUE

@@ -170,9 +170,7 @@ class SimBoard(Board):
         return self._in8(port, self.machine.clock)
 
     def _in8(self, port, now):
-        read = self.readers.get(port)
-        if read is not None:
-            return read(now)
+        """A read of a port the port map does not hold."""
         if port >= C.PCB_BASE:
             word = self.pcb.read16(port & 0xFE, self.pcb_time(now))
             return word >> 8 if port & 1 else word & 0xFF
