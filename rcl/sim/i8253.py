@@ -219,11 +219,11 @@ class Counter:
         rw, lsb_next = self.rw, self._read_lsb_next
         if lsb_next and not self.latched:
             self._ol = self._encoded()      # OL follows CE: sample per read
-        if rw == self.RW_BOTH:              # LSB, then MSB
+        if rw == RW_BOTH:                   # LSB, then MSB
             byte = self._ol & 0xFF if lsb_next else self._ol >> 8
             lsb_next = self._read_lsb_next = not lsb_next
         else:
-            byte = self._ol >> 8 if rw == self.RW_MSB else self._ol & 0xFF
+            byte = self._ol >> 8 if rw == RW_MSB else self._ol & 0xFF
         if lsb_next:
             self.latched = False           # fully read: OL follows CE again
         return byte
@@ -391,10 +391,17 @@ class I8253:
                 byte & cls.BCD_MASK)
 
     def write_control(self, byte):
-        sc, rw, mode, bcd = self.decode(byte)
-        if sc == self.SC_ILLEGAL:
+        sc = byte >> SC_SHIFT       # (the fields one at a time: four latches a tick)
+        if sc == SC_ILLEGAL:
             return                  # the 8254's read-back; an 8253 ignores it
-        if rw == Counter.RW_LATCH:
+        if not byte & RW_FIELD:     # RW 00: the counter latch command
             self.counters[sc].latch()
         else:
-            self.counters[sc].program(rw, mode, bcd)
+            self.counters[sc].program(*self.decode(byte)[1:])
+
+
+# The fields the hot paths test, as module names (a global is looked up
+# faster than a class attribute through self).
+RW_BOTH, RW_MSB = Counter.RW_BOTH, Counter.RW_MSB
+SC_SHIFT, SC_ILLEGAL = I8253.SC_SHIFT, I8253.SC_ILLEGAL
+RW_FIELD = I8253.RW_MASK << I8253.RW_SHIFT
