@@ -61,14 +61,19 @@ def listing1_counts():
     return m.sim.wheel_counts
 
 
-def test_listing_1_over_a_pty_ends_within_2_counts_of_the_simulation(serve):
+def test_listing_1_over_a_pty_ends_as_over_rclsim_and_within_2_counts_of_the_simulation(serve):
     board = serve("--pty", "--rate", "8")
     assert board.where.startswith("/dev/")
     run = rcl_cli("--port", board.where, LISTING1, "-e", REST)
     assert run.returncode == 0, run.stderr
     report = board.stop()
+    m = rcl.open(port="rclsim://?rate=16")       # lockstep: the frames decide, not the line
+    m.include(LISTING1)
+    m.evaluate(REST)
+    m.board.close()
+    assert tuple(report["wheel_counts"]) == m.sim.wheel_counts == (3521, 6028)
     for got, want in zip(report["wheel_counts"], listing1_counts()):
-        assert abs(got - want) <= 2
+        assert abs(got - want) <= 2                          # (3522, 6027)
     assert report["stats"]["watchdog"] == 0 and report["relays"][0] == 0
 
 

@@ -14,7 +14,7 @@ SAMPLES = {
     "SNAPSHOT": dict(ops=[(0, 0x83, 0x40), (1, 0x81, 0)]),
     "TICK_DONE": dict(tick=513, final=1, us=2750, writes=[(0x80, 0xAD), (0x80, 0)]),
     "SAFE": {}, "TICK_FAILED": {}, "PING": {}, "NAK": dict(seq=9),
-    "WAIT": dict(tick=0x0102),
+    "WAIT": dict(tick=0x0102), "CLOCK": dict(us=40_416),
     "RUN": dict(ops=[(0, 0x87, 0x40), (1, 0x85, 0)]),
     "IDENTIFY": dict(version=1, tick_us=10_000, flags=0, name="R-E Robot"),
     "ACK": dict(ack=7), "VALUE": dict(ack=7, value=0x1234),

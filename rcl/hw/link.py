@@ -112,7 +112,10 @@ class LinkBoard(Board):
         self.lost = False
         self.request("SNAPSHOT", ops=self.script)
         self.board_clock, self.ticking, self.last_us = None, False, None
+        self.follows = self.lockstep          # lockstep, no tick yet: the board keeps our time
+        self.told_us = 0                      # ... and has it up to here (CLOCK)
         if self.machine is not None:
+            self.time_zero = self.machine.clock
             self.due = self.machine.clock      # is it ticking? service finds out
             self.machine.reschedule()
 
@@ -161,6 +164,7 @@ class LinkBoard(Board):
 
     def attach(self, machine):
         super().attach(machine)
+        self.time_zero = machine.clock        # HELLO's moment, in the host's time
         self.due = machine.clock
         machine.reschedule()
 
@@ -297,6 +301,7 @@ class LinkBoard(Board):
         if not self.usable():
             return None
         try:
+            self.tell_time()
             if not wait:
                 self.post(name, **values)
                 return True
@@ -304,6 +309,17 @@ class LinkBoard(Board):
         except LinkLost as e:
             self.lose(str(e))
             return None
+
+    def tell_time(self):
+        """A lockstep board whose timer does not tick keeps the host's time:
+        before a port or memory access, tell it how far the host has come
+        (CLOCK), so the access lands where the simulation has it."""
+        if not self.follows or self.in_tick or self.machine is None:
+            return
+        us = (self.machine.clock - self.time_zero) // US
+        if us != self.told_us:
+            self.post("CLOCK", us=us & 0xFFFFFFFF)
+            self.told_us = us
 
     # ------------------------------------------------------------ port I/O
     def out8(self, port, byte):
@@ -363,12 +379,22 @@ class LinkBoard(Board):
     # ----------------------------------------------------------- the tick
     def service(self, m):
         """The next tick. While the board says it is not ticking, this only
-        looks (every tick period of virtual time) for what has come."""
+        looks (every tick period of virtual time) for what has come. A
+        lockstep board that keeps the host's time is told it first: a tick
+        that falls due on the way comes before CLOCK's answer, so it is
+        here to be run, whatever the wall clock did."""
         if not self.usable():
             self.due = None
             return
+        if self.follows:
+            try:
+                self.tell_time()
+                self.settle()
+            except LinkLost as e:
+                self.lose(str(e))
+                return
         while True:
-            event = self.next_event(block=self.ticking)
+            event = self.next_event(block=self.ticking and not self.follows)
             if event is None:
                 if not self.lost:
                     self.due = m.clock + self.period
@@ -376,9 +402,11 @@ class LinkBoard(Board):
             if event.name == "TICK":
                 self.ticking = True
                 return self.run_tick(m, event)
-            if not event["ticking"]:
-                m.catch_up(self.heartbeat_time(event["time_us"]))
             self.ticking = bool(event["ticking"])
+            if not self.ticking and self.lockstep:
+                self.follows = True            # the board keeps our time again
+            elif not self.ticking:
+                m.catch_up(self.heartbeat_time(event["time_us"]))
 
     def next_event(self, block):
         """The next TICK or HEARTBEAT (None: none waiting, when not to
@@ -430,6 +458,7 @@ class LinkBoard(Board):
 
     def run_tick(self, m, tick):
         self.ticks += 1
+        self.follows = False                  # from here the ticks are the clock
         self.late += time.monotonic() - tick.arrived > 0.002
         m.catch_up(self.board_time(tick["tick"]))
         self.log_script_writes()

@@ -118,6 +118,9 @@ TABLE = [
             doc="port operations as one, as SNAPSHOT's; answer RESULTS"),
     Message("WAIT", 0x0F, HOST, "tick:H", False,
             doc="the host waits for tick `tick`; a lockstep board lets its time run; no answer"),
+    Message("CLOCK", 0x10, HOST, "us:I",
+            doc="lockstep boards only: the host's time has reached `us` (µs since HELLO); "
+                "while timer 0 does not tick, the board's time follows it; answer ACK"),
     Message("NAK", 0x0D, HOST, "seq:B", False,
             doc="board frame `seq` was not received: send it again"),
     Message("IDENTIFY", 0x81, BOARD, "version:B tick_us:H flags:B name:s", False,
@@ -137,7 +140,7 @@ TABLE = [
 ]
 BY_NAME = {m.name: m for m in TABLE}
 BY_ID = {m.id: m for m in TABLE}
-FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT (simulated only)
+FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT and CLOCK (simulated only)
 SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 

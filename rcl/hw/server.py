@@ -16,9 +16,12 @@ quick tests). In lockstep (the default) board time stands still from a
 TICK until the host, its handler done (final TICK_DONE), waits for the
 next one (WAIT): the handler and the host's foreground work between ticks
 take no board time, as in the simulation, where they take microseconds.
-What the served board does then depends on the frames only, not on how
-fast the host or the line is. A real board
-cannot wait; `lockstep=False` (rcl-board --free-running) behaves as one.
+While timer 0 does not tick, board time stands still but for the host's
+CLOCK frames, which carry the host's virtual time: the port accesses that
+set the board up land where the simulation has them. What the served
+board does then depends on the frames only, not on how fast the host or
+the line is. A real board cannot wait; `lockstep=False` (rcl-board
+--free-running) behaves as one.
 Faults for tests and demonstrations: a byte corruption rate on both
 directions, a cut of the link (silence, or for TCP a closed connection)
 at a time for a time, a stalled wheel.
@@ -33,6 +36,11 @@ from rcl.hw import protocol as P
 from rcl.sim.board import SimBoard
 
 US = CLOCK_HZ // 1_000_000
+# Lockstep: the host's time 0 (HELLO) is put on a multiple of 3 ms, where
+# the board's clocks line up as at the simulation's time 0 (the 80188's
+# 0.5 us, the 8253s' 8 us and the physics' 1 ms), so CLOCK's times land on
+# the same edges as the simulation's.
+ALIGN = 3000 * US
 PCB_T0_CONTROL, PCB_TIMER_MASK = 0x56, 0x32
 
 
@@ -122,6 +130,7 @@ class BoardServer:
         self.awaiting = None         # the tick whose handler the host runs (lockstep)
         self.done = False            # ... and its final TICK_DONE has come
         self.cutting = False
+        self.host_at = self.host_us = None   # lockstep: where the host's CLOCK put the board
         self.watchdog_at = self.last_valid_clock = None   # board times, for tests
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
@@ -235,6 +244,7 @@ class BoardServer:
         self.stats["ticks_sent"] += 1
         self.last_tick_frame = self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
         if self.lockstep and not self.safe:
+            self.host_at = None                  # the ticks are the clock now
             self.awaiting, self.done = b.ticks & 0xFFFF, False
             self.held_at = self.clock.clock
             self.clock.hold()
@@ -251,13 +261,17 @@ class BoardServer:
             self.expected, self.send_seq, self.window = 1, 1, {}
             self.awaiting = None
             self.clock.release()
+            if self.lockstep:
+                self.follow_host()
             self.out += P.frame(0, "IDENTIFY", version=self.version, tick_us=10_000,
                                 flags=P.FLAG_LOCKSTEP if self.lockstep else 0, name=self.name)
             return
         if f.name == "PING":
             return
         if f.name == "WAIT":
-            if self.awaiting is None:
+            if self.awaiting is None:                   # held by CLOCK: on to the tick
+                if self.ticking():
+                    self.clock.release()
                 return
             if self.done and f["tick"] == (self.awaiting + 1) & 0xFFFF:
                 self.awaiting, self.done = None, False
@@ -319,11 +333,48 @@ class BoardServer:
                 self.done = True
         elif name == "SAFE":
             b.stop_motors()
+        elif name == "CLOCK":
+            if not self.lockstep:
+                return self.reply("REFUSED", ack=f.seq, reason="not a lockstep board")
+            self.host_time(v["us"])
         elif name == "TICK_FAILED":               # no TICK_DONE will come for this tick
             b.tick_failed()
             self.awaiting, self.done = None, False
             self.clock.release()
         self.reply("ACK", ack=f.seq)
+
+    # ------------------------------------------------- lockstep, no ticks
+    def follow_host(self):
+        """HELLO on a lockstep board whose timer 0 does not tick: its time
+        stands still, on the next multiple of ALIGN, the host's time 0,
+        and from there moves by CLOCK. (A board that ticks, to a host
+        reconnecting, goes on as it was: its ticks hold it.)"""
+        self.host_at = None
+        if self.ticking():
+            return
+        start = -(-self.clock.now() // ALIGN) * ALIGN
+        self.run_until(start)
+        self.clock.catch_up(start)
+        self.clock.hold()
+        self.host_at, self.host_us = start, 0
+        self.hello_at = start                    # for the tests: the host's time 0
+
+    def host_time(self, us):
+        """CLOCK: the host's time is `us` (mod 2**32) since HELLO; the
+        board comes up to it, running whatever falls due on the way (a
+        TICK, which then holds it), and holds there. Ignored while a tick
+        holds the board; the first CLOCK after ticks only sets where the
+        host's time is."""
+        if self.awaiting is not None:
+            return
+        if self.host_at is None:
+            self.host_at, self.host_us = self.clock.now(), us
+        self.host_at += ((us - self.host_us) & 0xFFFFFFFF) * US
+        self.host_us = us
+        self.run_until(self.host_at)
+        if self.awaiting is None:
+            self.clock.catch_up(self.host_at)
+            self.clock.hold()
 
     # ------------------------------------------------------------ serving
     def serve_fd(self, fd, stop, on_idle=None):
