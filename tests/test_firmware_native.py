@@ -233,6 +233,17 @@ def test_the_documents_worked_example_is_acknowledged_and_sets_the_motor_latch(r
     assert raw.board.wait_for(lambda: [n for n in raw.board.events("motor") if n["value"] == 0x0F])
 
 
+def test_clock_a_lockstep_boards_message_is_dropped_unanswered_as_an_unknown_type(raw):
+    raw.frame(0, "HELLO", version=1)
+    raw.receive("IDENTIFY")
+    raw.frame(1, "CLOCK", us=40_416)
+    # Had CLOCK been taken as SEQ 1, this OUT8 would be its duplicate: not
+    # acted on, and answered with CLOCK's answer again.
+    answer = raw.answer(1, "OUT8", port=0x88, value=0x0F)
+    assert answer.name == "ACK"
+    assert raw.board.wait_for(lambda: [n for n in raw.board.events("motor") if n["value"] == 0x0F])
+
+
 def test_a_repeated_frame_is_answered_again_byte_for_byte_and_not_acted_on_twice(raw):
     raw.frame(0, "HELLO", version=1)
     raw.receive("IDENTIFY")

@@ -222,3 +222,13 @@ def test_a_command_typed_soon_after_the_link_was_lost_at_the_prompt_is_stopped_n
         m.evaluate("HEX FF56 P@ U. DECIMAL")      # within RECONNECT's half second
     assert e.value.screen() == " Link lost "
     assert "FFFF" not in m.take_output()              # no made-up value was printed
+
+
+def test_a_free_running_served_board_refuses_clock():
+    from rcl.hw import protocol as P
+    from rcl.hw.server import BoardServer
+    server = BoardServer(lockstep=False)
+    server.receive(P.frame(0, "HELLO", version=1) + P.frame(1, "CLOCK", us=40_416))
+    frames = [f for f in P.FrameReader().feed(server.take_output()) if f.name != "HEARTBEAT"]
+    assert [f.name for f in frames] == ["IDENTIFY", "REFUSED"]
+    assert frames[1]["reason"] == "not a lockstep board"
