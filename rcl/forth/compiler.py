@@ -82,12 +82,13 @@ on the real return stack, checked against what EXIT returns: see inner.py).
 EXECUTE of an xt read from a cell (`VEC @ EXECUTE`) or a DEFER first
 compares the xt with the colon word the cell held at compile time and
 calls that body's function directly while it stands (`dynamic_call`); any
-other xt goes through m.call. A small straight colon word is not called at all: decode.py pastes its
-primitives into the caller's block, between an "enter" and an "exit" that
-cost what the call and its EXIT cost. A DO loop becomes a Python `while`
-with the index, the clock and the stack cells it works on in locals, when
-its body is one block or several whose jumps stay inside it, its IF ...
-THEN and BEGIN loops written as Python `if` and `while` (compile_loops.py).
+other xt goes through m.call. A small straight colon word is not called
+at all: decode.py pastes its primitives into the caller's block, between
+an "enter" and an "exit" that cost what the call and its EXIT cost. A DO
+loop becomes a Python `while` with the index, the clock and the stack
+cells it works on in locals, when its body is one block or several whose
+jumps stay inside it, its IF ... THEN and BEGIN loops written as Python
+`if` and `while` (compile_loops.py).
 
 Locals (rcl/words/localvars.py) use the same idea for the return stack: a
 frame's cells stay Python names (`rs_known`), the frame pushed only before

@@ -131,6 +131,7 @@ class BoardServer:
         self.done = False            # ... and its final TICK_DONE has come
         self.cutting = False
         self.host_at = self.host_us = None   # lockstep: where the host's CLOCK put the board
+        self.hello_at = None                 # ... and the host's time 0 (for the tests)
         self.watchdog_at = self.last_valid_clock = None   # board times, for tests
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
@@ -357,7 +358,7 @@ class BoardServer:
         self.clock.catch_up(start)
         self.clock.hold()
         self.host_at, self.host_us = start, 0
-        self.hello_at = start                    # for the tests: the host's time 0
+        self.hello_at = start
 
     def host_time(self, us):
         """CLOCK: the host's time is `us` (mod 2**32) since HELLO; the
