@@ -84,9 +84,12 @@ def test_box_turns_right_at_each_corner(robot):
     load(robot, "listing2.fs")
     robot.evaluate("3.5 FIXED BOX")
     # Four sides of 1193 counts; each right turn adds 313 to the left wheel.
+    # The simulation is deterministic: these are its counts at rest.
     left, right = at_rest(robot)
-    assert left == pytest.approx(4 * 1193 + 4 * 313, abs=16)
-    assert right == pytest.approx(4 * 1193 - 4 * 313, abs=16)
+    assert (left, right) == (6027, 3522)
+    # The article's sums are commanded distances; the braked wheels run on
+    # a few counts past them.
+    assert abs(left - (4 * 1193 + 4 * 313)) <= 4 and abs(right - (4 * 1193 - 4 * 313)) <= 4
 
 
 # ---------------------------------------------------------- Listing 3
@@ -195,15 +198,21 @@ def test_trip_runs_to_its_end_with_the_robot_stopped(trip):
 
 
 def test_trip_ends_10_5_feet_ahead_and_1_foot_left_of_the_nest(trip):
-    # rcl-words.md section 6: 10.51 ft ahead, 1.01 ft left (the reconstruction's
-    # open loop, not the loop's fault).
+    # The simulation is deterministic: this is where its TRIP ends (1e-6 in
+    # only for the last bits of the floating-point pose).
     x, y, _ = trip[0].sim.pose
-    assert x == pytest.approx(10.51 * 12, abs=6)
-    assert y == pytest.approx(1.01 * 12, abs=6)
+    assert (x, y) == (pytest.approx(124.476001, abs=1e-6), pytest.approx(10.715940, abs=1e-6))
+    # The reference estimates it (its own "about": 10.51 ft ahead, 1.01 ft
+    # left, the reconstruction's open loop, not the loop's fault); the
+    # simulated robot ends within 2 inches of that estimate.
+    assert x == pytest.approx(10.51 * 12, abs=2)
+    assert y == pytest.approx(1.01 * 12, abs=2)
 
 
 def test_trip_ends_facing_the_way_it_started(trip):
-    assert trip[0].sim.pose[2] == pytest.approx(-0.2, abs=1.5)
+    heading = trip[0].sim.pose[2]
+    assert heading == pytest.approx(-0.322422, abs=1e-6)
+    assert heading == pytest.approx(-0.2, abs=0.2)       # the reference's estimate
 
 
 def test_trip_takes_about_a_quarter_of_an_hour(trip):

@@ -106,12 +106,17 @@ def test_the_wheel_holds_the_top_speed_between_the_ramps(trapezoid):
 
 def test_the_acceleration_ramp_covers_about_455_counts(trapezoid):
     first, _ = plateau(trapezoid)
-    assert trapezoid[first][2] == pytest.approx(455, abs=25)     # the PLL lags ~20
+    # Where the simulated wheel first runs at 99 % of top speed, exactly;
+    # the article's 455 is where the commanded ramp ends, which the wheel
+    # (its speed loop lags the reference) reaches a few counts off.
+    assert trapezoid[first][2] == 451
+    assert abs(trapezoid[first][2] - 455) <= 10
 
 
 def test_the_deceleration_starts_about_704_counts(trapezoid):
     _, last = plateau(trapezoid)
-    assert trapezoid[last + 1][2] == pytest.approx(704, abs=25)
+    assert trapezoid[last + 1][2] == 712       # the article: the ramp down at 704
+    assert abs(trapezoid[last + 1][2] - 704) <= 10
 
 
 def test_the_ramps_are_0_1_g(trapezoid):

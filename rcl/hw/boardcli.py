@@ -118,6 +118,9 @@ def report(server, path):
     data = {"wheel_counts": sim.wheel_counts, "pose": sim.pose, "ticks": server.board.ticks,
             "relays": sim.relays, "stats": server.stats, "port_writes": log,
             "rejected_frames": server.reader.bad,
+            # board times (CLOCK_HZ units) of the watchdog's trip and of the
+            # host's last good frame: a trip after that frame came after the host left
+            "watchdog_at": server.watchdog_at, "last_host_frame_at": server.last_valid_clock,
             "late_ms": [round(x * 1000, 3) for x in server.lateness if x > 0.002]}
     with open(path, "w") as f:
         json.dump(data, f)
