@@ -200,6 +200,21 @@ def test_ctrl_c_during_a_move_on_a_link_opens_the_boards_relays(linked):
     assert server.stats["watchdog"] == 0          # the host said SAFE itself
 
 
+def test_a_board_kept_from_running_by_a_busy_host_is_not_a_lost_link(linked):
+    # A loaded machine can keep the served board's thread waiting for long
+    # (here 0.4 s, mid-move): the board heard nothing and said nothing in
+    # that time, which neither end takes for the other's silence. Neither
+    # did the board's time go on: the move ends as if nothing had happened.
+    clean = linked("rclsim://")
+    clean.evaluate(LEGS)
+    m = linked("rclsim://")
+    server = m.board.port.server
+    at_mid_move(server, lambda: time.sleep(0.4))    # in the board's own thread
+    assert m.evaluate(LEGS) == ""
+    assert server.stats["watchdog"] == 0 and m.board.skipped == 0
+    assert m.sim.wheel_counts == clean.sim.wheel_counts
+
+
 def test_sequence_numbers_wrap_past_255_without_losing_a_request(linked):
     m = linked()
     served = m.board.port.server

@@ -92,7 +92,12 @@ class LinkBoard(Board):
             self.port = self.open_port()
         self.seq, self.expected, self.last_nak, self.held = 1, 1, 0.0, {}
         self.pending = None                   # [seq, frame, name, give up, sent at]: not yet answered
-        self.last_rx = self.last_tx = time.monotonic()
+        self.last_tx = time.monotonic()
+        # Silence is judged on the board's own clock where the port can
+        # tell it (rclsim://: a board in this process, which a busy host
+        # may keep from running), else on the wall clock.
+        self.silence_clock = getattr(self.port, "board_seconds", time.monotonic)
+        self.last_rx = self.silence_clock()
         for q in (self.replies, self.events, self.identify):
             drain(q)
         self.lost, self.why = True, ""         # until IDENTIFY: the reader keeps quiet
@@ -185,13 +190,18 @@ class LinkBoard(Board):
                     self.dispatch(f, now)
             if now - self.last_tx > P.KEEPALIVE_MS / 1000:
                 self.send(P.frame(0, "PING"))
-            if now - self.last_rx > P.LOST_MS / 1000 and not self.lost:
+            if self.silent() and not self.lost:
                 self.lose("no frame from the board for %d ms" % P.LOST_MS)
+
+    def silent(self):
+        """Nothing from the board for LOST_MS (of its own time, where known)."""
+        return self.silence_clock() - self.last_rx > P.LOST_MS / 1000
 
     def dispatch(self, f, now):
         """Board frames are taken in sequence order: one that comes early is
         held, and the missing one asked for again (NAK)."""
-        self.last_rx = f.arrived = now
+        f.arrived = now
+        self.last_rx = self.silence_clock()
         if f.name == "IDENTIFY":
             self.expected, self.held = 1, {}
             self.identify.put(f.values)
@@ -429,7 +439,7 @@ class LinkBoard(Board):
                     if self.lockstep and time.monotonic() - waited > P.RETRY_MS / 1000:
                         waited = time.monotonic()
                         self.send(P.frame(0, "WAIT", tick=self.next_tick()))
-                    if self.lost or time.monotonic() - self.last_rx > P.LOST_MS / 1000:
+                    if self.lost or self.silent():
                         raise LinkLost(self.why or "no tick") from None
         except LinkLost as e:
             self.lose(str(e))

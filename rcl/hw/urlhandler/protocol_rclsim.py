@@ -12,6 +12,8 @@ options:
 
 The board runs in a thread of its own, paced to the wall clock, through a
 socket pair: the same rcl.hw.server.BoardServer that rcl-board serves.
+The host judges its silence (Link lost) in the board's time, not the wall
+clock's: see board_seconds.
 `port.server` is that server (its `.board` is the SimBoard).
 """
 import socket
@@ -19,6 +21,8 @@ import threading
 import urllib.parse
 
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException, Timeout
+
+from rcl.board import CLOCK_HZ
 
 OPTIONS = {"corrupt": float, "seed": int, "cut_at": float, "cut_for": float,
            "rate": float, "version": int}
@@ -66,6 +70,13 @@ class Serial(SerialBase):
             self._sock.close()
             self._theirs.close()
             self.is_open = False
+
+    def board_seconds(self):
+        """The board's time as far as its thread has run it, in seconds:
+        the host judges this board's silence by it, so a busy machine that
+        keeps the board's thread waiting is not a lost link (a cut is: the
+        board's time goes on, its frames do not come)."""
+        return self.server.clock.clock / CLOCK_HZ
 
     def _reconfigure_port(self):
         """Baud rate and framing mean nothing on a socket pair."""
