@@ -42,6 +42,7 @@ US = CLOCK_HZ // 1_000_000
 # the same edges as the simulation's.
 ALIGN = 3000 * US
 PCB_T0_CONTROL, PCB_TIMER_MASK = 0x56, 0x32
+STALL = 0.020                # s: a longer gap between the watchdog's looks is the board's stall
 
 
 class BoardMemory:
@@ -123,6 +124,7 @@ class BoardServer:
         self.window = {}             # seq -> frame, for NAK
         self.last_reply = None
         self.last_valid = None       # board clock of the last good host frame
+        self.looked_at = time.monotonic()   # the watchdog's last look
         self.safe = True             # relays forced off by the watchdog
         self.last_sent = 0.0
         self.started = time.monotonic()
@@ -208,7 +210,15 @@ class BoardServer:
     # ------------------------------------------------------------ safety
     def watchdog(self, wall):
         """No valid frame from the host for WATCHDOG_MS: safe state, and
-        the clock goes on without waiting for the host."""
+        the clock goes on without waiting for the host. Looked at every
+        turn of the serving loop (5 ms at most); a longer gap since the
+        last look is a stall of this board (a busy host kept its thread or
+        process waiting), in which it could hear nothing: only 20 ms of it
+        count as the host's silence."""
+        stalled = wall - self.looked_at - STALL
+        self.looked_at = wall
+        if self.last_valid is not None and stalled > 0:
+            self.last_valid += stalled
         if self.last_valid is not None and not self.safe \
                 and wall - self.last_valid > P.WATCHDOG_MS / 1000:
             self.board.stop_motors()
