@@ -294,3 +294,40 @@ class RawLink:
 
     def close(self):
         os.close(self.fd)
+
+
+# ----------------------------------------- what the firmware tests drive
+EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
+FIRST_COMMAND = "RERB 2 MPH 3.4 FEET FORWARD"
+LEGS = "RERB 6 INCHES FORWARD 90 DEGREES LEFT 6 INCHES FORWARD"
+PER_MOVE = 2                     # counts: see tests/test_firmware_native.py's docstring
+REST = "300 MS"                  # the braked wheels at rest (6 braking constants)
+
+
+def counts(m):
+    """Both wheels' positions as RCL reads its counters, at rest."""
+    out = m.evaluate(REST + " ?CNT1 D. ?CNT2 D.")
+    left, right = (int(x) for x in out.split())
+    return left, right
+
+
+def simulated(program=None, listing=None):
+    m = rcl.open()
+    if listing:
+        m.include(EXAMPLES / listing)
+    else:
+        m.evaluate(program)
+    return counts(m)
+
+
+def leg_after_reconnect(m):
+    """The link mended: RECONNECT finds it up and LEG, defined before the
+    cut, drives; -> the counts each wheel moved."""
+    assert m.evaluate("RECONNECT").startswith(" Link up")
+    before = counts(m)
+    m.evaluate("LEG")                               # the definition survived
+    return [a - b for a, b in zip(counts(m), before)]
+
+
+def within(a, b, tolerance):
+    return all(abs(x - y) <= tolerance for x, y in zip(a, b))

@@ -7,7 +7,7 @@ and interrupt times."""
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from test_compiler_speed import PRIM, run
+from compiler_support import PRIM, run
 
 WORDS = ["DUP", "DROP", "SWAP", "OVER", "ROT", "NIP", "TUCK", "2DUP", "+", "-", "*",
          "AND", "<", "=", "0=", "U<", "1+", "2*", "7", "-3", "OVER 0<"]

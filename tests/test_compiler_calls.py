@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 import rcl
 from rcl.forth.compiler import source
-from test_compiler_speed import PERIODS, PRIM, run, same_both_ways
+from compiler_support import PERIODS, PRIM, run, same_both_ways
 
 FIB = ("VARIABLE FIB-VECTOR"
        "  : FIB  DUP 2 < IF EXIT THEN  DUP 1 - FIB-VECTOR @ EXECUTE"

@@ -8,7 +8,7 @@ import rcl
 from rcl.forth import compiler, control
 from rcl.forth.compiler import Gen, source, walk
 from rcl.forth.primitives import HELPERS, REGISTRY, Template
-from test_compiler_speed import PRIM, Ticker
+from compiler_support import PRIM, Ticker, code_lines, in_order
 
 
 def both_ways(program, word, period=7 * PRIM + 4321):
@@ -150,21 +150,6 @@ def test_the_python_of_a_word_can_be_printed_and_is_what_runs():
     with pytest.raises(LookupError):
         source(m, "NO-SUCH-WORD")
     assert "source(m" in compiler.__doc__
-
-
-def code_lines(text):
-    """Lines of Python without their comments, blank lines and elisions."""
-    out = []
-    for line in text.splitlines():
-        line = line.split("  #")[0].rstrip()
-        if line.strip() and line.strip() != "...":
-            out.append(line)
-    return out
-
-
-def in_order(wanted, lines):
-    it = iter(lines)
-    return all(any(w == line for line in it) for w in wanted)
 
 
 def test_the_compilers_walk_through_shows_the_python_that_source_prints():

@@ -9,7 +9,7 @@ import pytest
 
 import rcl
 from rcl.forth.compiler import source
-from test_compiler_speed import PRIM, Ticker
+from compiler_support import PRIM, Ticker
 
 # The handler runs about 25 primitives: periods beyond that leave the loop
 # fast iterations between interrupts, and these fall at every offset of

@@ -9,8 +9,8 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 import rcl
 from rcl.forth.compiler import source
-from test_compiler_speed import PRIM
-from test_compiler_speed import near_overflow, run as speed_run
+from compiler_support import PRIM
+from compiler_support import near_overflow, run as speed_run
 
 # Periods longer than the handler (about 5 primitives) that fall at every
 # offset of a body up to 13 primitives long, and one far longer.
@@ -163,7 +163,7 @@ def test_a_loop_across_a_group_of_guards_in_a_long_definition_still_runs_as_a_wh
 
 def test_the_loop_docstring_shows_the_python_that_source_prints():
     from rcl.forth import compile_loops
-    from test_compiler_clarity import code_lines, in_order
+    from compiler_support import code_lines, in_order
     m = rcl.Forth()
     m.evaluate(": ODDS  0 10 0 DO  I 1 AND IF  I +  THEN  LOOP ;")
     doc = compile_loops.__doc__

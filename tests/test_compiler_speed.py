@@ -5,51 +5,7 @@ import pytest
 
 import rcl
 from rcl.forth.compiler import source
-
-PRIM = 1_000_000
-
-
-class Ticker:
-    """An interrupt every `period` clock units that counts in Forth;
-    optionally asks for a break (as Ctrl-C does) at its `brk`-th service."""
-
-    def __init__(self, m, period, brk=None):
-        self.xt = m.dictionary.find("TICK")[0]
-        self.period, self.due, self.times, self.brk = period, period, [], brk
-
-    def service(self, m):
-        self.times.append(m.clock)
-        self.due += self.period
-        m.run_handler(self.xt)
-        if len(self.times) == self.brk:
-            m.request_break()
-
-
-def run(program, word, compiled, period, brk=None):
-    m = rcl.Forth()
-    m.compiled = compiled
-    m.evaluate("VARIABLE TICKS  : TICK  1 TICKS +! ;")
-    m.evaluate(program)
-    t = Ticker(m, period, brk)
-    m.attach(t)
-    try:
-        out = m.evaluate(word)
-    except rcl.ForthError as e:
-        out = "error: %s" % e.message
-    rs, mem = list(m.rs), bytes(m.mem)
-    return out, m.stack, m.clock, t.times, m.evaluate("TICKS @ ."), m, rs, mem
-
-
-def same_both_ways(program, word, periods, brk=None):
-    for period in periods:
-        a, b = (run(program, word, c, period, brk) for c in (True, False))
-        assert a[:5] == b[:5], (word, period)
-        assert a[3], "the interrupt source fired"
-    return a[5]
-
-
-# Interrupt periods that fall at every offset of a short loop body.
-PERIODS = [k * PRIM + PRIM // 3 for k in (3, 4, 5, 6, 7, 11)] + [29 * PRIM]
+from compiler_support import PERIODS, PRIM, near_overflow, run, same_both_ways
 
 LOOPS = {
     "SUM": ": SUM  0 300 0 DO  I +  LOOP ;",                       # top of stack carried
@@ -174,30 +130,6 @@ def test_an_error_inside_compiled_code_leaves_the_clock_where_the_block_put_it()
     with pytest.raises(rcl.ForthError):
         m.evaluate("W")
     assert m.clock > before + 50 * 3 * PRIM          # the loop's time up to the error is kept
-
-
-def near_overflow(program, line, depths):
-    """What line does at each return-stack depth in depths (its output or
-    error, the depth, the stack, the clock), compiled and by the reference
-    loop; -> ([compiled, reference], the compiled run's machine)."""
-    out, machines = [], []
-    for compiled in (True, False):
-        m = rcl.Forth()
-        m.compiled = compiled
-        m.evaluate(program)
-        seen = []
-        for depth in depths:
-            m.rs.extend([0] * depth)
-            try:
-                m.evaluate(line)
-                seen.append(("ok", len(m.rs), m.stack))
-            except rcl.ForthError as e:
-                seen.append((e.message, m.stack))
-            del m.rs[:], m.s[:]
-            seen.append(m.clock)
-        out.append(seen)
-        machines.append(m)
-    return out, machines[0]
 
 
 def test_an_inlined_call_after_code_that_grows_the_return_stack_overflows_where_the_real_call_does():

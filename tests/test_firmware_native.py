@@ -32,16 +32,13 @@ import pytest
 
 import rcl
 from rcl.hw import protocol as P
-from firmware_support import (BoardProcess, FaultRelay, RawLink,
-                              connect, native_program)
+from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, BoardProcess, FaultRelay, RawLink,
+                              connect, counts, leg_after_reconnect, native_program, simulated,
+                              within)
 
 from pathlib import Path
 
 EXAMPLES = Path(rcl.SCREENS) / "examples"
-FIRST_COMMAND = "RERB 2 MPH 3.4 FEET FORWARD"
-LEGS = "RERB 6 INCHES FORWARD 90 DEGREES LEFT 6 INCHES FORWARD"
-PER_MOVE = 2                     # counts: see the module's docstring
-REST = "300 MS"                  # the braked wheels at rest (6 braking constants)
 # The watchdog's 250 ms in board time, as the native board can show them:
 # its time moves in 1 ms steps, up to 2 at once after the process was kept
 # waiting (it never catches up more), and the watchdog is looked at after
@@ -49,35 +46,6 @@ REST = "300 MS"                  # the braked wheels at rest (6 braking constant
 # clock (the "silence" note) the trip comes no earlier than 250 ms less
 # the one step board time may lag it by.
 WATCHDOG_BOARD_US = 253_000
-
-
-def counts(m):
-    """Both wheels' positions as RCL reads its counters, at rest."""
-    out = m.evaluate(REST + " ?CNT1 D. ?CNT2 D.")
-    left, right = (int(x) for x in out.split())
-    return left, right
-
-
-def simulated(program=None, listing=None):
-    m = rcl.open()
-    if listing:
-        m.include(EXAMPLES / listing)
-    else:
-        m.evaluate(program)
-    return counts(m)
-
-
-def leg_after_reconnect(m):
-    """The link mended: RECONNECT finds it up and LEG, defined before the
-    cut, drives; -> the counts each wheel moved."""
-    assert m.evaluate("RECONNECT").startswith(" Link up")
-    before = counts(m)
-    m.evaluate("LEG")                               # the definition survived
-    return [a - b for a, b in zip(counts(m), before)]
-
-
-def within(a, b, tolerance):
-    return all(abs(x - y) <= tolerance for x, y in zip(a, b))
 
 
 @pytest.fixture

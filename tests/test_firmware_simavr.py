@@ -25,9 +25,9 @@ import serial
 
 import rcl
 from rcl.hw.protocol import LinkError
-from firmware_support import BUILD, INSTALL, ROOT, BoardProcess, FaultRelay, build, connect
-from test_firmware_native import (FIRST_COMMAND, LEGS, PER_MOVE, counts, leg_after_reconnect,
-                                  simulated, within)
+from firmware_support import (BUILD, FIRST_COMMAND, INSTALL, LEGS, PER_MOVE, ROOT, BoardProcess,
+                              FaultRelay, build, connect, counts, leg_after_reconnect, simulated,
+                              within)
 
 SIMAVR_BUILD = ROOT / "firmware" / "simavr" / "build"
 HARNESS = SIMAVR_BUILD / "rcl-simavr"
