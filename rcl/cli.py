@@ -188,11 +188,12 @@ def add_link_args(p):
 
 
 def open_on_link(args, write):
-    """RCL on the board at --port or --usb; a refusal is said and exits 2."""
+    """RCL on the board at --port or --usb; a refusal, or the link lost
+    while RCL loads, is said and exits 2."""
     from rcl.hw.protocol import LinkError
     try:
         return rcl.open(write=write, port=args.port, usb=args.usb, image=args.image)
-    except LinkError as e:
+    except (LinkError, rcl.ForthError) as e:
         sys.stderr.write("rcl: %s\n" % e)
         raise SystemExit(2) from None
 
