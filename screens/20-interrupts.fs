@@ -4,7 +4,7 @@
 \ (INSTALL itself ends layer 3: it needs the counters). Relies on P! (16-bit
 \ OUT, for the 80188's peripheral control block), L@ L! (the 1 MiB address
 \ space) and GET-CS.
-\ Timer 0 counts 1.5 us periods (board-hardware.md 3.4); the BIOS's
+\ Timer 0 counts 1.5 us periods; the BIOS's
 \ type-8 handler counts the time of day at 0040:006C, then runs INT 1Ch.
 HEX
 FF50 CONSTANT T0-COUNT     FF52 CONSTANT T0-MAX      FF56 CONSTANT T0-CONTROL

@@ -4,7 +4,7 @@
 \ layer 5. Each plain word is FIXED then its parenthesised partner, which
 \ takes an already converted FIXED pair (Listing 2 uses (FEET)).
 \ A distance waits in PENDING for the next command (the optional-parameter
-\ rule, rcl-words.md section 3). Units: 1 INCHES 2 FEET 3 MILES 4 DEGREES.
+\ rule, docs/guide.md section 4). Units: 1 INCHES 2 FEET 3 MILES 4 DEGREES.
 2VARIABLE PENDING        \ V4 of the distance given, if PENDING-UNIT is set
 VARIABLE PENDING-UNIT    \ 0: none pending
 : DISTANCE!  ( fx unit -- )   >R >V4 PENDING 2! R> PENDING-UNIT ! ;
@@ -17,7 +17,7 @@ VARIABLE PENDING-UNIT    \ 0: none pending
 : MILES  ( num -- )   FIXED (MILES) ;   \ the distance for the next command, in miles
 : DEGREES  ( num -- )   FIXED (DEGREES) ;   \ the turn for the next command, in degrees
 
-\ Counts = round(V4 x num / den), board-hardware.md 7.2: INCHES 1/352,
+\ Counts = round(V4 x num / den): INCHES 1/352,
 \ FEET 3/88, MILES 180/1, DEGREES 1/2880.
 CREATE COUNT-RATIOS   1 , 352 ,   3 , 88 ,   180 , 1 ,   1 , 2880 ,
 : RATIO  ( unit table -- num den )   SWAP 1- 4 * + 2@ SWAP ;

@@ -3,7 +3,7 @@
 \ DEC-START MOVE-END PEAK V-CREEP RUN-ON. Relies on layers 4 to 6.
 \ Units inside: speeds in crpm (0.01 rpm of the wheel), distances in
 \ ten-thousandths of an inch (DISTANCE) or encoder counts (everything else);
-\ rounding is half away from zero (board-hardware.md 7.2 to 7.5).
+\ rounding is half away from zero.
 600 CONSTANT V-CREEP     \ crpm: the slowest speed of a deceleration (1.76 in/s)
 2 CONSTANT RUN-ON        \ counts a wheel rolls on after its relays open
 

@@ -2,7 +2,7 @@
 \ Adds RERB ARM FORWARD BACKWARD LEFT RIGHT UP DOWN OPEN CLOSE, and under
 \ them DEVICE LAST-DISTANCE TAKE ?CONTROL ?SETTINGS STALL? AWAIT (MOVE)
 \ (ARM-MOVE) (SAFE). Relies on layers 1-7.
-\ Optional parameters (rcl-words.md section 3): a distance waits in
+\ Optional parameters (docs/guide.md section 4): a distance waits in
 \ PENDING for the next command; with none, a command reuses its own last
 \ distance, first its default. Speed and G persist until changed.
 VARIABLE DEVICE   1 DEVICE !     \ 1 the base (RERB), 2 the arm

@@ -122,3 +122,15 @@ def test_the_first_commands_pose_in_the_documents_is_what_rcl_prints(path):
     shown = re.search(r"^\s+\.POSE (x .*?deg)  ok$", text, re.M).group(1)
     out = rcl.open().evaluate("RERB 2 MPH 3.4 FEET FORWARD .POSE")
     assert out.strip() == shown
+
+
+def screen_files():
+    return sorted(os.path.join(d, n) for d, _, names in os.walk(os.path.join(ROOT, "screens"))
+                  for n in names if n.endswith(".fs"))
+
+
+@pytest.mark.parametrize("path", screen_files(), ids=os.path.basename)
+def test_the_screens_cite_only_documents_that_ship(path):
+    text = open(path, encoding="utf-8").read()
+    for cited in re.findall(r"[\w./-]+\.md\b", text):
+        assert os.path.exists(os.path.join(ROOT, cited)), cited

@@ -7,7 +7,7 @@
 \     90 DEGREES RIGHT
 \     2DUP (FEET) FORWARD
 \     90 DEGREES RIGHT;
-\ Repaired (rcl-words.md 7.2): the stack comment needs its blank; ";" was
+\ Repaired (the printed text is above): the stack comment needs its blank; ";" was
 \ fused to RIGHT; only two sides were printed. (FEET) takes a FIXED pair,
 \ so 2DUP keeps it for the next side and the last side consumes it.
 \ Use:   3.5 FIXED BOX      (the argument is a FIXED pair: frac int)

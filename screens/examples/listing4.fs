@@ -11,7 +11,7 @@
 \     : AHEAD ( feet ----) FEET FORWARD ;
 \     COLLECT ( minutes ---- )
 \     ATTENTION MINUTES WARNING ;
-\ Repaired (rcl-words.md 7.4): ATTENTION and COLLECT lost their leading ":",
+\ Repaired (the printed text is above): ATTENTION and COLLECT lost their leading ":",
 \ TURN-AROUND ends with ":" for ";", and "(feet ----)" needs its blank.
 \ BEEP (layer 9) is used but never defined in the article. WARNING
 \ shadows F83's WARNING variable: from here on the name is the beeper.

@@ -8,7 +8,7 @@
 \   | 20 IPS 2.5 AHEAD TURN-LEFT 36 IPS 2 COLLECT 8 AHEAD TURN-RIGHT
 \   11.5 AHEAD TURN-RIGHT ( President) 4.5 AHEAD TURN-LEFT
 \   | 3 FEET
-\ Reconstructed (rcl-words.md 7.5, about 75 % sure of the order): read row
+\ Reconstructed (about 75 % sure of the order): read row
 \ by row, the header alone on the first row, columns 2 to 4 from the
 \ second. Only that reading backs out of the nest first and never repeats
 \ an action twice running; the turns net +180 degrees, cancelling
