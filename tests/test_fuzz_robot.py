@@ -1,5 +1,6 @@
 """The whole system under random and hostile lines (tests/robot_fuzz.py):
-10,000 of them, the same every run. After each: no Python exception, no
+10,000 of them in CI (CI set), the first 2,000 of the same lines in a
+default run, the same every run. After each: no Python exception, no
 internal error, every relay off (no line overran its budget with a motor
 on: the budget's abort stops them), and a canary word still works."""
 import os
@@ -7,6 +8,8 @@ import os
 import pytest
 
 import robot_fuzz
+
+LINES = 10_000 if os.environ.get("CI") else 2_000
 
 
 @pytest.fixture(autouse=True)
@@ -18,9 +21,9 @@ def test_ten_thousand_random_lines_never_leave_a_motor_on_or_break_rcl():
     m = robot_fuzz.machine()
     words = robot_fuzz.dictionary_words(m)
     outcomes = {}
-    for text in robot_fuzz.lines(10_000, seed=1, words=words):
+    for text in robot_fuzz.lines(LINES, seed=1, words=words):
         outcome = robot_fuzz.run_line(m, text)
         outcomes[outcome] = outcomes.get(outcome, 0) + 1
-    assert sum(outcomes.values()) == 10_000
-    assert outcomes["ok"] > 1000                        # it did more than refuse
+    assert sum(outcomes.values()) == LINES
+    assert outcomes["ok"] > LINES // 10                 # it did more than refuse
     assert not os.listdir(".")                          # and wrote no file
