@@ -141,6 +141,13 @@ class BoardServer:
                       "bytes_out": 0}
         self.lateness = []           # seconds each tick was serviced after its time
 
+    def board_seconds(self):
+        """The board's time as far as this server has run it, in seconds: a
+        host in the same process judges the board's silence by it, so a busy
+        machine that keeps this thread waiting is not a lost link (a cut is:
+        the board's time goes on, its frames do not come)."""
+        return self.clock.clock / CLOCK_HZ
+
     # ----------------------------------------------------------- the loop
     def run_until(self, now):
         """Bring the board to board-clock `now`: each tick at its own time

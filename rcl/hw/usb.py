@@ -220,6 +220,8 @@ def usb_opener(text, **sim_options):
             raise LinkError(usb_failure(vid, pid, e)) from None
         port.backend = backend
         port.server = getattr(backend, "server", None)
+        if port.server is not None:            # in this process: silence in its time
+            port.board_seconds = port.server.board_seconds
         return port
     return open_port
 
