@@ -60,9 +60,9 @@ def test_the_prompt_shows_a_failed_test_as_the_page_says():
     assert rcl.Forth().session("T{ 1 2 + -> 4 }T") == screen
 
 
-def test_the_readmes_few_lines_pass_beside_the_articles_box(pytester):
-    readme = (DOC.parent.parent / "README.md").read_text()
-    section = readme[readme.index("## Testing your programs"):readme.index("## The Forth")]
+def test_the_pages_few_lines_in_short_pass_beside_the_articles_box(pytester):
+    page = DOC.read_text()
+    section = page[page.index("## In short"):page.index("## A worked example")]
     (forth, fs), (python, py) = re.findall(r"```(forth|python)\n(.*?)```", section, re.S)
     (pytester.path / "box.fs").write_text(example_files()["box.fs"])
     (pytester.path / "test_box.fs").write_text(fs)
