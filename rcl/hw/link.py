@@ -39,6 +39,7 @@ BACKLOG = 25                 # ticks queued beyond this (the host was away) are 
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
+STALL = 0.030                # s: a longer gap between the reader's reads is this process's stall
 
 # What RCL's ?CNT1 and ?CNT2 do at every tick (layer 3): latch counters 1
 # and 2 of each 8253, read each low byte then high byte. The board does it
@@ -176,6 +177,7 @@ class LinkBoard(Board):
     # ------------------------------------------------------- reader thread
     def read_loop(self):
         reader = P.FrameReader()
+        looked_at = time.monotonic()
         while not self.stopping.is_set():
             try:
                 data = self.port.read(max(1, self.port.in_waiting))
@@ -184,6 +186,8 @@ class LinkBoard(Board):
                 self.lose(self.why)
                 return
             now = time.monotonic()
+            self.was_away(now - looked_at)
+            looked_at = now
             if data:
                 self.bytes_in += len(data)
                 for f in reader.feed(data):
@@ -192,6 +196,14 @@ class LinkBoard(Board):
                 self.send(P.frame(0, "PING"))
             if self.silent() and not self.lost:
                 self.lose("no frame from the board for %d ms" % P.LOST_MS)
+
+    def was_away(self, seconds):
+        """This thread's last read came back this much later (a read waits
+        10 ms at most): beyond STALL it was a busy machine keeping this
+        process waiting, most likely the board's as well, and a wall-clock
+        silence does not count that time (it still counts STALL of each)."""
+        if seconds > STALL and self.silence_clock is time.monotonic:
+            self.last_rx += seconds - STALL
 
     def silent(self):
         """Nothing from the board for LOST_MS (of its own time, where known)."""
@@ -439,7 +451,7 @@ class LinkBoard(Board):
                     if self.lockstep and time.monotonic() - waited > P.RETRY_MS / 1000:
                         waited = time.monotonic()
                         self.send(P.frame(0, "WAIT", tick=self.next_tick()))
-                    if self.lost or self.silent():
+                    if self.lost:                 # (the reader judges the silence)
                         raise LinkLost(self.why or "no tick") from None
         except LinkLost as e:
             self.lose(str(e))
