@@ -36,7 +36,7 @@ from rcl.hw import protocol as P
 US = CLOCK_HZ // 1_000_000
 PCB_BASE = 0xFF00
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
-REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
+REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost (silence_clock's)
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
 STALL = 0.030                # s: a longer gap between the reader's reads is this process's stall
@@ -257,7 +257,7 @@ class LinkBoard(Board):
             raise LinkLost(self.why)
         seq, self.seq = self.seq, P.following(self.seq)
         data = P.frame(seq, name, **values)
-        self.pending = [seq, data, name, time.monotonic() + REQUEST_GIVE_UP, time.monotonic()]
+        self.pending = [seq, data, name, self.silence_clock() + REQUEST_GIVE_UP, time.monotonic()]
         self.send(data)
 
     def settle(self, block=True):
@@ -268,7 +268,7 @@ class LinkBoard(Board):
             try:
                 reply = self.replies.get(timeout=P.RETRY_MS / 1000 if block else 0)
             except queue.Empty:
-                if self.lost or time.monotonic() > give_up:
+                if self.lost or self.silence_clock() > give_up:
                     self.pending = None
                     raise LinkLost(self.why or "no answer") from None
                 if time.monotonic() - sent_at >= P.RETRY_MS / 1000:

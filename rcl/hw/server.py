@@ -159,8 +159,8 @@ class BoardServer:
             self.lateness.append(late)
             self.stats["late"] += late > 0.002
             b.service(c)
-        if not self.lockstep:
-            c.catch_up(now)        # (in lockstep the clock moves by ticks and frames only)
+        if not self.lockstep or self.safe:
+            c.catch_up(now)        # (in lockstep, serving a host, by ticks and frames only)
         wall = time.monotonic()
         self.watchdog(wall)
         if wall - self.last_sent >= P.HEARTBEAT_MS / 1000:
