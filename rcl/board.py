@@ -34,6 +34,8 @@ NullBoard below, what a bare machine has: every port reads 0xFF (floating
 bus) and writes go nowhere.
 """
 
+from rcl.i80188 import PER_DAY_ADDR, TICKS_ADDR
+
 FORTH_CS = 0x1000      # the segment GET-CS returns: the Forth machine's 64 KiB
 CLOCK_HZ = 36_000_000_000    # virtual clock units per second (1/36 ns each)
 OUT8, IN8 = 0, 1             # the operations of port_script
@@ -60,6 +62,9 @@ class Board:
       wait_started()       a wait begins: forget handler timings from before
       repeat_idle_ticks(n, c) -> primitives left
       skip_to_tick(target) let the time of day run to a BIOS tick at once
+    Time of day
+      time_of_day() -> (ticks, per_day)   the BIOS's count since midnight
+      set_time_of_day(ticks)
     Observation
       trace(file) -> recorder, or None
       status() -> a line for the prompt's status, or ""
@@ -143,6 +148,21 @@ class Board:
         """Let the time of day run until one tick short of BIOS tick
         `target` at once, INT 1Ch idle (nothing moves). Declining is
         correct: the waiting loop then waits tick by tick."""
+
+    # --------------------------------------------------------- time of day
+    def time_of_day(self):
+        """(BIOS ticks since midnight, ticks per day), read from the BIOS
+        data area as the 80188 would; a board may answer from its own."""
+        return self.far_fetch32(TICKS_ADDR), max(1, self.far_fetch32(PER_DAY_ADDR))
+
+    def set_time_of_day(self, ticks):
+        """Set the BIOS tick count (ticks since midnight, below per day)."""
+        for i in range(4):
+            self.far_store8(0, TICKS_ADDR + i, (ticks >> 8 * i) & 0xFF)
+
+    def far_fetch32(self, off):
+        """A 32-bit cell of segment 0, low byte first."""
+        return sum(self.far_fetch8(0, off + i) << 8 * i for i in range(4))
 
     # --------------------------------------------------------- observation
     def trace(self, file=None):

@@ -84,3 +84,17 @@ def test_catch_up_moves_the_clock_forward_only():
 
 def test_the_sim_board_is_an_implementation_of_the_interface():
     assert issubclass(SimBoard, Board)
+
+
+def test_the_time_of_day_is_read_and_set_through_the_interface_on_a_link():
+    # LinkBoard has no time of day of its own: the interface reads the BIOS
+    # data area through far memory, as the 80188 would, over the link.
+    m = rcl.open(port="rclsim://")
+    try:
+        assert m.board.time_of_day() == m.sim.board.time_of_day()
+        _, per_day = m.board.time_of_day()
+        assert per_day == 8_640_000                   # INSTALL's 10 ms ticks a day
+        m.board.set_time_of_day(8 * 360_000)
+        assert m.evaluate(".TIME") == "08:00:00 "
+    finally:
+        m.board.close()

@@ -32,9 +32,9 @@ import serial
 from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
+from rcl.i80188 import PCB_BASE
 
 US = CLOCK_HZ // 1_000_000
-PCB_BASE = 0xFF00
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)

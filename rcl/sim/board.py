@@ -40,6 +40,8 @@ import functools
 import struct
 
 from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
+from rcl.i80188 import (BIOS_IRET, BIOS_SEG, BIOS_TIMER, EOI_REG, EOI_TIMER,
+                         MIDNIGHT_ADDR, PER_DAY_ADDR, T0_CONTROL, TICKS_ADDR)
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
@@ -47,10 +49,7 @@ from rcl.sim.timer80188 import (INH as INH_BIT, INT as INT_BIT, P as P_BIT, T0_C
                                 TIMER_CLOCK, Timer80188)
 
 MS = CLOCK_HZ // 1000                     # clock units per physics sub-step
-BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
-TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
-EOI_TIMER = 0x0008
 DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
 
@@ -91,8 +90,8 @@ class SimBoard(Board):
         machine.attach(self)
 
     def _power_on_bios(self):
-        self.set_vector(8, BIOS_SEG, BIOS_TIMER)
-        self.set_vector(0x1C, BIOS_SEG, BIOS_IRET)
+        self.set_vector(C.VECTOR_TIMER0, BIOS_SEG, BIOS_TIMER)
+        self.set_vector(C.VECTOR_USER_TICK, BIOS_SEG, BIOS_IRET)
         self.low_store32(PER_DAY_ADDR, C.TICKS_PER_DAY_BIOS)
 
     # ------------------------------------------------------------ memory
@@ -101,6 +100,12 @@ class SimBoard(Board):
 
     def low_store32(self, a, v):
         DWORD.pack_into(self.low, a, v & 0xFFFFFFFF)
+
+    def time_of_day(self):
+        return self.low_fetch32(TICKS_ADDR), max(1, self.low_fetch32(PER_DAY_ADDR))
+
+    def set_time_of_day(self, ticks):
+        self.low_store32(TICKS_ADDR, ticks)
 
     def set_vector(self, n, seg, off):
         self.low[4 * n:4 * n + 4] = off.to_bytes(2, "little") + seg.to_bytes(2, "little")
@@ -362,7 +367,7 @@ class SimBoard(Board):
         kind = self.pcb.acknowledge(at)
         if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
-                self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
+                self.pcb.write16(EOI_REG, 0x8000, self.pcb_time(m.clock))
             self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
             return
         self.ticks += 1
@@ -372,7 +377,7 @@ class SimBoard(Board):
         except BaseException:
             self.end_of_interrupt(m)
             raise
-        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+        self.pcb.write16(EOI_REG, EOI_TIMER, self.pcb_time(m.clock))
         if self.batch_idle_ticks(m):
             nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
         self.due = nxt
@@ -388,7 +393,7 @@ class SimBoard(Board):
     def end_of_interrupt(self, m):
         """The EOI, and the next interrupt from there (after a handler
         failed: it may have left the timer anywhere)."""
-        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+        self.pcb.write16(EOI_REG, EOI_TIMER, self.pcb_time(m.clock))
         self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
 
     def batch_idle_ticks(self, m):
@@ -397,7 +402,7 @@ class SimBoard(Board):
         (Each would have run at its own time with the same result.)"""
         target = m.waiting_until
         if target is None or self.pacer is not None \
-                or (self.vector(0x1C)[0] == FORTH_CS and not self.quiet) \
+                or (self.vector(C.VECTOR_USER_TICK)[0] == FORTH_CS and not self.quiet) \
                 or not self.observers_allow_batching():
             return False
         n = self.pcb.take_timer0_requests(target)
@@ -433,7 +438,7 @@ class SimBoard(Board):
     def bios_tick(self, m):
         """Type 8: count the tick (midnight wrap), then INT 1Ch."""
         self.count_ticks(1)
-        seg, off = self.vector(0x1C)
+        seg, off = self.vector(C.VECTOR_USER_TICK)
         if seg == FORTH_CS and not self.quiet:
             start = m.clock
             m.run_handler(off)
@@ -480,7 +485,7 @@ class SimBoard(Board):
         if ticks:
             self.pcb.take_timer0_requests(last)
             self.pcb.acknowledge(last)
-            self.pcb.write16(0x22, EOI_TIMER, last)
+            self.pcb.write16(EOI_REG, EOI_TIMER, last)
             self.ticks += ticks
             self.count_ticks(ticks)
         self.due = self.pcb.next_interrupt(self.pcb_time(max(m.clock, clock)))
@@ -509,8 +514,8 @@ class SimBoard(Board):
         sets it up again."""
         self.stop_motors()
         now = self.pcb_time()
-        control = self.pcb.read16(0x56, now)
-        self.pcb.write16(0x56, (control & ~INT_BIT) | INH_BIT, now)
+        control = self.pcb.read16(T0_CONTROL, now)
+        self.pcb.write16(T0_CONTROL, (control & ~INT_BIT) | INH_BIT, now)
         self.pcb.drop_requests(0, now)
         self.refresh_due()
 

@@ -19,6 +19,8 @@ Bit constants are masks (1 << bit), ready for `byte & MASK`:
 """
 import math
 
+from rcl import i80188
+
 # ---------------------------------------------------------------------------
 # CLOCKS AND COUNTERS (sections 1, 2, 3.4)
 # ---------------------------------------------------------------------------
@@ -77,7 +79,7 @@ RIGHT_8253 = 0x84                   # 8253 #2, motor 2 = right wheel [PROPOSAL]
 MOTOR_PORT = 0x88                   # MOTOR relay/drive latch, write-only [PROPOSAL]
 AUX_PORT = 0x89                     # AUX latch: arm, gripper, beeper [PROPOSAL]
 STATUS_PORT = 0x8A                  # STATUS input, read-only [PROPOSAL]
-PCB_BASE = 0xFF00                   # 80188 peripheral control block [INTEL]
+PCB_BASE = i80188.PCB_BASE          # 80188 peripheral control block [INTEL]
 
 # 8253 counter offsets from LEFT_8253 / RIGHT_8253 (section 5.2) [PROPOSAL]
 CTR_SPEED = 0                       # counter 0: speed reference, mode 3 [ARTICLE]
@@ -124,5 +126,5 @@ CHARGER = 0x40                      # bit 6: on the charging contacts
 # ---------------------------------------------------------------------------
 
 FORTH_CS = 0x1000                   # segment GET-CS returns [PROPOSAL]
-VECTOR_TIMER0 = 0x08                # 80188 timer 0 interrupt type [INTEL]
-VECTOR_USER_TICK = 0x1C             # BIOS user timer hook, INT 1Ch [ARTICLE]
+VECTOR_TIMER0 = i80188.VECTOR_TIMER0        # 80188 timer 0 interrupt type [INTEL]
+VECTOR_USER_TICK = i80188.VECTOR_USER_TICK  # BIOS user timer hook, INT 1Ch [ARTICLE]

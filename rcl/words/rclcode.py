@@ -26,6 +26,8 @@ from rcl.errors import ForthError
 from rcl.forth.memory import MASK
 from rcl.forth.inner import DOCOL
 from rcl.forth.primitives import prim
+from rcl.i80188 import (EN, INT, PCB_BASE, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK,
+                        VECTOR_USER_TICK, vector_address)
 
 BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
 CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 80188
@@ -116,9 +118,9 @@ def q_cnt2(m):
 
 
 # ------------------------------------------------------------ the tick
-PCB_T0_CONTROL, PCB_TIMER_MASK = 0xFF56, 0xFF32
-T0_EN, T0_INT, TIMER_MSK = 0x8000, 0x2000, 0x0008
-USER_TICK_VECTOR = 4 * 0x1C                     # INT 1Ch in segment 0
+PCB_T0_CONTROL = PCB_BASE + T0_CONTROL
+PCB_TIMER_MASK = PCB_BASE + TIMER_CONTROL_REG
+USER_TICK_VECTOR = vector_address(VECTOR_USER_TICK)     # INT 1Ch in segment 0
 
 
 def user_tick(m):
@@ -133,7 +135,7 @@ def check_ticking(m):
     Forth word: unless something can run every tick."""
     b = m.board
     control, mask = b.in16(PCB_T0_CONTROL), b.in16(PCB_TIMER_MASK)
-    if (control & (T0_EN | T0_INT)) != T0_EN | T0_INT or mask & TIMER_MSK \
+    if (control & (EN | INT)) != EN | INT or mask & TIMER_MASK \
             or user_tick(m)[0] != FORTH_CS:
         raise ForthError(-2, "Control loop not running (INSTALL starts it)")
 
