@@ -16,10 +16,9 @@ the machine owns its clock and no board assigns it):
 
     machine.clock            virtual time now, in units of CLOCK_HZ (read only)
     machine.waiting_until    while a waiting word skips ahead, where it stops
-    machine.budget_end       where the foreground's step budget ends
     machine.advance_to(t)    wait until t, servicing interrupts on the way
     machine.catch_up(t)      the board accounted for the time up to t itself
-                             (idle ticks counted in arithmetic): move to t
+                             (its own clock, on a link): move to t
     machine.reschedule()     `due` changed: recompute the next deadline
     machine.run_handler(xt)  from service(): run the Forth word xt
     machine.request_stop(e)  raise error e at the foreground's next
@@ -27,6 +26,10 @@ the machine owns its clock and no board assigns it):
     machine.in_forth, .masked  Forth is running (a word, or a handler)
     machine.in_safe_state    the abort hooks run (after an error, Ctrl-C)
     machine.mem, machine.memory.cstore   the Forth segment's 64 KiB
+
+Speed is not a board's business: a simulated board may also give its
+machine a fast-forward for waits (machine.fast_forward, rcl/forth/inner.py),
+which is rcl.sim's capability, not part of this interface.
 
 Implementations: rcl.sim.board.SimBoard (the simulated R-E Robot board),
 rcl.hw.link.LinkBoard (a board at the other end of a serial link) and
@@ -53,15 +56,14 @@ class Board:
     Interrupts
       attach(machine), due, service(machine)
       ticks                timer-0 ticks serviced so far
+      tick_reads(ops)      the port operations the tick handler starts with
+                           (a port_script): a board over a link does them
+                           at the tick and sends their results with it
     Safety
       stop_motors()        safe state, whatever happens (errors, Ctrl-C)
       tick_failed()        the tick handler failed: motors off, no more
                            ticks until the software sets the timer again
       reconnect()          a board on a link: connect again (RECONNECT)
-    Time shortcuts (a board may decline each; the result is the same)
-      wait_started()       a wait begins: forget handler timings from before
-      repeat_idle_ticks(n, c) -> primitives left
-      skip_to_tick(target) let the time of day run to a BIOS tick at once
     Time of day
       time_of_day() -> (ticks, per_day)   the BIOS's count since midnight
       set_time_of_day(ticks)
@@ -119,6 +121,11 @@ class Board:
     def service(self, machine):
         """What fell due at `due`; must move `due` on (None: nothing more)."""
 
+    def tick_reads(self, ops):
+        """The software says what its tick handler reads first, every tick
+        (port_script's ops). A board that runs the handler itself has
+        nothing to do with it."""
+
     # -------------------------------------------------------------- safety
     def stop_motors(self):
         """Every motor and relay off."""
@@ -132,22 +139,6 @@ class Board:
         """Connect again to a board that was lost; -> a line saying what
         happened. A board without a link has nothing to reconnect."""
         return "No link to reconnect"
-
-    # ------------------------------------------------------ time shortcuts
-    def wait_started(self):
-        """A wait (MS) begins: timings learnt before it are not trusted."""
-
-    def repeat_idle_ticks(self, n, c):
-        """The foreground spends n primitives of c clock units while every
-        tick's handler only reads (the caller checked). A board that can
-        count such ticks in arithmetic does, and moves the clock with
-        machine.catch_up; -> the primitives left (n: declined)."""
-        return n
-
-    def skip_to_tick(self, target):
-        """Let the time of day run until one tick short of BIOS tick
-        `target` at once, INT 1Ch idle (nothing moves). Declining is
-        correct: the waiting loop then waits tick by tick."""
 
     # --------------------------------------------------------- time of day
     def time_of_day(self):

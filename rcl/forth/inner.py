@@ -159,6 +159,17 @@ class Inner:
         self.leave_signal = None     # and a signal asked to quit
         self.stop_error = None       # or an error to raise there (request_stop)
         self.handler_deadline = math.inf
+        # A wait's fast-forward, if the board behind the machine has one (a
+        # simulated board gives itself at attach): an object with
+        #   wait_started()            a wait (MS) begins
+        #   repeat_idle_ticks(n, c)   n primitives of c units while every
+        #                             tick's handler only reads: counted in
+        #                             arithmetic, clock moved by catch_up,
+        #                             -> primitives left (n: declined)
+        #   skip_to_tick(target)      the time of day run to one tick short
+        #                             of BIOS tick target at once (or not)
+        # Each may decline; the result is the same as waiting tick by tick.
+        self.fast_forward = None
 
     # ---------------------------------------------------------- calling
     def enter(self, addr, ret):

@@ -86,6 +86,7 @@ class SimBoard(Board):
     def attach(self, machine):
         self.machine = machine
         self.due = self.pcb.next_interrupt(self.pcb_time())
+        machine.fast_forward = self       # waits may count idle ticks out (below)
         machine.attach(self)
 
     def _power_on_bios(self):
@@ -310,7 +311,7 @@ class SimBoard(Board):
         time. So the moments at which the physics is brought up change
         nothing."""
         drive = self.drive
-        if not (drive.left.rate or drive.right.rate) and self.is_idle():   # a turning wheel is never idle
+        if not (drive.left.rate or drive.right.rate) and self.still():   # a turning wheel never is
             self.physics_ms = target
             return
         pulses = drive.advance(target - self.physics_ms, self.motor_latch, self.aux_latch, *self.refs)
@@ -318,8 +319,12 @@ class SimBoard(Board):
         if pulses != NO_MOTION:
             self.deliver(pulses)
 
-    def is_idle(self):
-        """Nothing moves and nothing would start moving."""
+    def still(self):
+        """The physics' own fact: nothing moves and nothing would start
+        moving (no wheel turns, no motor is driven, arm, gripper and
+        beeper off). Not RCL's idle rule (IDLE?, in the screens: the tick
+        handler has nothing to do), which the machine asks; a tick's reads
+        repeat only when both hold."""
         d, m = self.drive, self.motor_latch
         if d.left.rate or d.right.rate or self.aux_latch & (C.ARM_ON | C.GRIP_ON | C.BEEPER):
             return False
@@ -414,7 +419,7 @@ class SimBoard(Board):
         which something changes, none while all is idle, so it is shown
         the idle state the stretch starts from, now."""
         if any(not getattr(o, "changes_only", False) for o in self.observers) \
-                or (self.observers and not self.is_idle()):
+                or (self.observers and not self.still()):
             return False
         for observe in self.observers:
             observe(self)
@@ -441,6 +446,11 @@ class SimBoard(Board):
             start = m.clock
             m.run_handler(off)
             self.handler_cost = m.clock - start
+
+    # ------------------------------------------------------- fast-forward
+    # What this board gives its machine as machine.fast_forward (rcl.sim's
+    # capability, not the board interface's): waits that count idle ticks
+    # in arithmetic, exactly as ticking through would leave everything.
 
     def skip_to_tick(self, target):
         """Let the time of day run until the BIOS count is one short of
@@ -476,7 +486,7 @@ class SimBoard(Board):
         cost, d = self.handler_cost, self.due
         period = self.tick_period()
         if cost is None or d is None or cost >= period \
-                or self.pacer is not None or not self.is_idle() \
+                or self.pacer is not None or not self.still() \
                 or not self.observers_allow_batching():
             return n
         clock, n, ticks, last = count_out(m.clock, n, c, d, period, cost, m.budget_end)

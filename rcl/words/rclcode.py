@@ -18,6 +18,12 @@ Python's, at no virtual-time cost, and nothing added to MS or the tick.
 Layer 9's `IDLE-CELLS` is such a table of the addresses IDLE? reads:
 MOVING, ARM-BITS, CONTROL's xt and STOCK-CONTROL, laid down by the screen
 at load time (`MOVING , ARM-BITS , ...`).
+
+The tick script: INIT-COUNTERS (INSTALL's on a board not yet set up) and
+every check that the tick runs tell the board what RCL's handler reads
+first, ?CNT1's and ?CNT2's latches and reads (board.tick_reads: a board
+over a link does them at the tick and sends the bytes with it). So the
+script, its ports and its order live here, beside the words that read.
 """
 import struct
 
@@ -62,6 +68,7 @@ def state_addr(m):
       hidden=True, cost=CODE_COST)
 def init_counters(m):
     b = m.board
+    tell_tick_reads(m)
     for base in BASES:
         for control, counter in ((0x36, 0), (0x74, 1), (0xB4, 2)):
             b.out8(base + 3, control)
@@ -74,6 +81,15 @@ COUNTER_READS = tuple(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),   # latch
                        (IN8, base + 1, 0), (IN8, base + 1, 0),         # counter 1 LSB MSB
                        (IN8, base + 2, 0), (IN8, base + 2, 0))         # counter 2 LSB MSB
                       for base in BASES)
+TICK_READS = COUNTER_READS[0] + COUNTER_READS[1]
+
+
+def tell_tick_reads(m):
+    """The board learns what RCL's tick handler reads first (a board that
+    runs the handler itself ignores it; a link sends it once a session)."""
+    m.board.tick_reads(TICK_READS)
+
+
 STATE = struct.Struct("<HHHHHH")    # prev fwd, prev rev, fwd total hi lo, rev total hi lo
 
 
@@ -134,6 +150,7 @@ def check_ticking(m):
     """Abort unless timer 0 runs and interrupts, unmasked, and INT 1Ch is a
     Forth word: unless something can run every tick."""
     b = m.board
+    tell_tick_reads(m)
     control, mask = b.in16(PCB_T0_CONTROL), b.in16(PCB_TIMER_MASK)
     if (control & (EN | INT)) != EN | INT or mask & TIMER_MASK \
             or user_tick(m)[0] != FORTH_CS:
@@ -165,12 +182,16 @@ def paren_ms(m):
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
     n = 1 + 37 * m.s.pop()
     check_ticking(m)
+    ff = m.fast_forward
+    if ff is None:                    # no shortcut: the loop's own time, tick by tick
+        m.spend(n)
+        return
     c, board = m.cost[DOCOL], m.board
-    board.wait_started()
+    ff.wait_started()
     while n > 0:
         if quiet(m):
             ticks_before = board.ticks
-            left = board.repeat_idle_ticks(n, c)
+            left = ff.repeat_idle_ticks(n, c)
             if left == 0:
                 return
             if board.ticks != ticks_before:
@@ -188,4 +209,5 @@ def paren_ms(m):
       "INT 1Ch idle (only when nothing moves)", hidden=True, kind="call")
 def skip_to_tick(m):
     hi, lo = m.s.pop(), m.s.pop()
-    m.board.skip_to_tick((hi << 16) | lo)
+    if m.fast_forward is not None:    # else the waiting loop waits tick by tick
+        m.fast_forward.skip_to_tick((hi << 16) | lo)
