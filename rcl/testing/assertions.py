@@ -14,7 +14,7 @@ by tenths of a degree): pass settle=False to look at once.
 import re
 
 from rcl.forth.memory import MASK, signed
-from rcl.sim import constants as C
+from rcl import robot as C
 from rcl.testing.moves import pose_text, wrap
 
 SETTLE_LIMIT_S = 2.0          # a braked wheel's rate reaches 0 in ~0.9 s
