@@ -16,10 +16,9 @@ the machine owns its clock and no board assigns it):
 
     machine.clock            virtual time now, in units of CLOCK_HZ (read only)
     machine.waiting_until    while a waiting word skips ahead, where it stops
-    machine.budget_end       where the foreground's step budget ends
     machine.advance_to(t)    wait until t, servicing interrupts on the way
     machine.catch_up(t)      the board accounted for the time up to t itself
-                             (idle ticks counted in arithmetic): move to t
+                             (its own clock, on a link): move to t
     machine.reschedule()     `due` changed: recompute the next deadline
     machine.run_handler(xt)  from service(): run the Forth word xt
     machine.request_stop(e)  raise error e at the foreground's next
@@ -28,11 +27,17 @@ the machine owns its clock and no board assigns it):
     machine.in_safe_state    the abort hooks run (after an error, Ctrl-C)
     machine.mem, machine.memory.cstore   the Forth segment's 64 KiB
 
+Speed is not a board's business: a simulated board may also give its
+machine a fast-forward for waits (machine.fast_forward, rcl/forth/inner.py),
+which is rcl.sim's capability, not part of this interface.
+
 Implementations: rcl.sim.board.SimBoard (the simulated R-E Robot board),
 rcl.hw.link.LinkBoard (a board at the other end of a serial link) and
 NullBoard below, what a bare machine has: every port reads 0xFF (floating
 bus) and writes go nowhere.
 """
+
+from rcl.i80188 import PER_DAY_ADDR, TICKS_ADDR
 
 FORTH_CS = 0x1000      # the segment GET-CS returns: the Forth machine's 64 KiB
 CLOCK_HZ = 36_000_000_000    # virtual clock units per second (1/36 ns each)
@@ -51,15 +56,17 @@ class Board:
     Interrupts
       attach(machine), due, service(machine)
       ticks                timer-0 ticks serviced so far
+      tick_reads(ops)      the port operations the tick handler starts with
+                           (a port_script): a board over a link does them
+                           at the tick and sends their results with it
     Safety
       stop_motors()        safe state, whatever happens (errors, Ctrl-C)
       tick_failed()        the tick handler failed: motors off, no more
                            ticks until the software sets the timer again
       reconnect()          a board on a link: connect again (RECONNECT)
-    Time shortcuts (a board may decline each; the result is the same)
-      wait_started()       a wait begins: forget handler timings from before
-      repeat_idle_ticks(n, c) -> primitives left
-      skip_to_tick(target) let the time of day run to a BIOS tick at once
+    Time of day
+      time_of_day() -> (ticks, per_day)   the BIOS's count since midnight
+      set_time_of_day(ticks)
     Observation
       trace(file) -> recorder, or None
       status() -> a line for the prompt's status, or ""
@@ -114,6 +121,11 @@ class Board:
     def service(self, machine):
         """What fell due at `due`; must move `due` on (None: nothing more)."""
 
+    def tick_reads(self, ops):
+        """The software says what its tick handler reads first, every tick
+        (port_script's ops). A board that runs the handler itself has
+        nothing to do with it."""
+
     # -------------------------------------------------------------- safety
     def stop_motors(self):
         """Every motor and relay off."""
@@ -128,21 +140,20 @@ class Board:
         happened. A board without a link has nothing to reconnect."""
         return "No link to reconnect"
 
-    # ------------------------------------------------------ time shortcuts
-    def wait_started(self):
-        """A wait (MS) begins: timings learnt before it are not trusted."""
+    # --------------------------------------------------------- time of day
+    def time_of_day(self):
+        """(BIOS ticks since midnight, ticks per day), read from the BIOS
+        data area as the 80188 would; a board may answer from its own."""
+        return self.far_fetch32(TICKS_ADDR), max(1, self.far_fetch32(PER_DAY_ADDR))
 
-    def repeat_idle_ticks(self, n, c):
-        """The foreground spends n primitives of c clock units while every
-        tick's handler only reads (the caller checked). A board that can
-        count such ticks in arithmetic does, and moves the clock with
-        machine.catch_up; -> the primitives left (n: declined)."""
-        return n
+    def set_time_of_day(self, ticks):
+        """Set the BIOS tick count (ticks since midnight, below per day)."""
+        for i in range(4):
+            self.far_store8(0, TICKS_ADDR + i, (ticks >> 8 * i) & 0xFF)
 
-    def skip_to_tick(self, target):
-        """Let the time of day run until one tick short of BIOS tick
-        `target` at once, INT 1Ch idle (nothing moves). Declining is
-        correct: the waiting loop then waits tick by tick."""
+    def far_fetch32(self, off):
+        """A 32-bit cell of segment 0, low byte first."""
+        return sum(self.far_fetch8(0, off + i) << 8 * i for i in range(4))
 
     # --------------------------------------------------------- observation
     def trace(self, file=None):

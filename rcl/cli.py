@@ -22,7 +22,6 @@ import sys
 
 import rcl
 from rcl import repl
-from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")
@@ -119,9 +118,10 @@ def make_machine(args, write):
                 load(m, args.image)
             return m
         if args.port or args.usb:
-            return open_on_link(args, write)
-        screens = False if args.board_only else (args.screens or True)
-        m = rcl.open(write=write, realtime=args.realtime, screens=screens, image=args.image)
+            m = open_on_link(args, write)
+        else:
+            screens = False if args.board_only else (args.screens or True)
+            m = rcl.open(write=write, realtime=args.realtime, screens=screens, image=args.image)
     except ImageError as e:
         sys.stderr.write("rcl: --image: %s\n" % e)
         raise SystemExit(2) from None
@@ -155,10 +155,10 @@ def start_time(text):
 
 
 def set_time_of_day(m, seconds):
-    """The BIOS time of day, in ticks of the rate it counts at now."""
-    board = m.sim.board
-    per_day = board.low_fetch32(PER_DAY_ADDR)
-    board.low_store32(TICKS_ADDR, seconds * per_day // 86400)
+    """The BIOS time of day, in ticks of the rate it counts at now (on any
+    board: the simulated one, or one over a link)."""
+    _, per_day = m.board.time_of_day()
+    m.board.set_time_of_day(seconds * per_day // 86400)
 
 
 def screens_dir(text):

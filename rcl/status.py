@@ -19,8 +19,6 @@ import os
 import shutil
 import threading
 
-from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR   # the BIOS time of day
-
 CELL = 0xFFFF
 REFRESH_S = 0.2
 
@@ -38,8 +36,8 @@ def fetch_var(m, name, double=False):
 
 
 def time_of_day(board):
-    per_day = max(1, board.low_fetch32(PER_DAY_ADDR))
-    s = int(board.low_fetch32(TICKS_ADDR) * 86400 / per_day)
+    ticks, per_day = board.time_of_day()
+    s = int(ticks * 86400 / per_day)
     return "%02d:%02d:%02d" % (s // 3600 % 24, s // 60 % 60, s % 60)
 
 

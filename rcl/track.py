@@ -19,8 +19,8 @@ x, y and heading as None and the path is dead-reckoned from the counts.
 import csv
 import math
 
-from rcl.sim.constants import (COUNTS_PER_INCH, M1_GO, M1_REV, M2_GO, M2_REV,
-                               TRACK_IN)
+from rcl.robot import (COUNTS_PER_INCH, M1_GO, M1_REV, M2_GO, M2_REV,
+                       TRACK_IN)
 
 FIELDS = ("t", "x", "y", "heading", "left", "right", "ref_left", "ref_right",
           "motor", "aux", "arm", "jaw", "beeper")

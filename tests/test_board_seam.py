@@ -10,9 +10,9 @@ from rcl.sim.board import SimBoard
 from rcl.words.rclcode import quiet
 
 ROOT = pathlib.Path(rcl.__file__).parent
-HOOKS = ("out8", "in8", "out16", "in16", "far_fetch8", "far_store8", "attach",
-         "service", "stop_motors", "tick_failed", "reconnect", "wait_started",
-         "repeat_idle_ticks", "skip_to_tick", "trace", "status")
+HOOKS = ("out8", "in8", "out16", "in16", "far_fetch8", "far_store8", "port_script",
+         "attach", "service", "tick_reads", "stop_motors", "tick_failed", "reconnect",
+         "time_of_day", "set_time_of_day", "trace", "status")
 
 
 def imports_of(path):
@@ -39,6 +39,12 @@ def test_every_hook_has_a_documented_default_on_the_interface():
     assert Board.ticks == 0 and Board.due is None
 
 
+def test_the_interface_names_what_a_board_is_and_nothing_else():
+    # ports, memory, interrupts, safety, time of day, observation: no speed hooks
+    public = {n for n, v in vars(Board).items() if callable(v) and not n.startswith("_")}
+    assert public == set(HOOKS) | {"far_fetch32"}
+
+
 def test_no_board_assigns_the_machine_clock():
     for package in ("sim", "hw"):
         for path in (ROOT / package).glob("*.py"):
@@ -46,14 +52,25 @@ def test_no_board_assigns_the_machine_clock():
             assert "m.clock =" not in text and "machine.clock =" not in text, path
 
 
-def test_a_board_declining_every_time_shortcut_gives_the_same_wait():
+def test_a_machine_without_the_simulated_boards_fast_forward_waits_the_same():
     plain = rcl.open()
     plain.evaluate("250 MS")
     declining = rcl.open()
-    declining.sim.board.repeat_idle_ticks = Board.repeat_idle_ticks.__get__(declining.sim.board)
-    declining.sim.board.skip_to_tick = Board.skip_to_tick.__get__(declining.sim.board)
+    declining.fast_forward = None
     declining.evaluate("250 MS")
     assert declining.clock == plain.clock
+    assert (declining.sim.board.ticks, declining.sim.bios_ticks) \
+        == (plain.sim.board.ticks, plain.sim.bios_ticks)
+
+
+def test_the_idle_rule_ms_reads_costs_no_time_and_follows_rcls_moving():
+    m = rcl.open()
+    now = m.clock
+    assert quiet(m) and m.clock == now
+    m.evaluate("-1 MOVING !")
+    assert not quiet(m)
+    m.evaluate("0 MOVING !  : IDLE?  0 ;")         # a user's IDLE? is not RCL's
+    assert quiet(m)
 
 
 def test_the_counter_words_find_their_state_when_the_name_means_something_else():
@@ -69,7 +86,7 @@ def test_the_null_board_floats_and_declines_everything():
     m = rcl.Forth()
     assert isinstance(m.board, NullBoard)
     assert m.evaluate("HEX 80 PC@ .") == "FF "
-    assert m.board.repeat_idle_ticks(7, 1) == 7
+    assert m.fast_forward is None                 # waits tick by tick
     assert m.board.reconnect() == "No link to reconnect"
 
 
@@ -84,3 +101,17 @@ def test_catch_up_moves_the_clock_forward_only():
 
 def test_the_sim_board_is_an_implementation_of_the_interface():
     assert issubclass(SimBoard, Board)
+
+
+def test_the_time_of_day_is_read_and_set_through_the_interface_on_a_link():
+    # LinkBoard has no time of day of its own: the interface reads the BIOS
+    # data area through far memory, as the 80188 would, over the link.
+    m = rcl.open(port="rclsim://")
+    try:
+        assert m.board.time_of_day() == m.sim.board.time_of_day()
+        _, per_day = m.board.time_of_day()
+        assert per_day == 8_640_000                   # INSTALL's 10 ms ticks a day
+        m.board.set_time_of_day(8 * 360_000)
+        assert m.evaluate(".TIME") == "08:00:00 "
+    finally:
+        m.board.close()

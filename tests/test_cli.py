@@ -188,6 +188,11 @@ def test_start_sets_the_time_of_day_24_hour():
     assert rcl("--start", "13:45", "-e", ".TIME").stdout == "13:45:00 \n"
 
 
+def test_start_sets_the_time_of_day_on_a_board_over_a_link_too():
+    # (it was left at midnight: --start only reached the simulated board)
+    assert rcl("--port", "rclsim://", "--start", "08:00", "-e", ".TIME").stdout == "08:00:00 \n"
+
+
 def test_start_now_takes_the_hosts_clock():
     import datetime
     before = datetime.datetime.now()

@@ -18,9 +18,12 @@ the board (its 8253s, relays, vector table and clock start afresh):
 
 The memory image carries the dictionary, every user variable and RCL's
 settings (they are Forth variables); the JSON carries what lives beside
-it in Python: the execution tokens the compiler lays down, the FORTH and
-ROOT word lists, the files REQUIRE has seen, the block file's name, the
-primitives' virtual-time costs. Compiled code and name caches are rebuilt.
+it in Python, the system state each word set declares (rcl/forth/state.py:
+the execution tokens the compiler lays down, the FORTH and ROOT word
+lists, the files REQUIRE has seen, the block file's name, the primitives'
+virtual-time costs, the heap's blocks, REPLACES' table); it is the same
+snapshot a new machine is copied from. Compiled code and name caches are
+rebuilt.
 
 Reading checks, in order, and refuses with ImageError: the magic (not an
 image), the format, the length (truncated), the checksum (damaged), the
@@ -32,8 +35,8 @@ import struct
 import zlib
 
 from rcl.errors import RclError
-from rcl.forth import memory as layout
-from rcl.forth.memory import SIZE, WATCH_HEADER
+from rcl.forth import memory as layout, state
+from rcl.forth.memory import SIZE
 from rcl.forth.primitives import REGISTRY
 from rcl.safefile import write_atomically
 
@@ -41,7 +44,6 @@ MAGIC = b"RCLIMAGE"
 FORMAT = 1
 HEAD = struct.Struct("<8sH16s32sI")          # magic format version fingerprint length
 CHECK = 32
-KEEP_HEADER = bytes(range(256)).translate(bytes(b & WATCH_HEADER for b in range(256)))
 
 
 class ImageError(RclError):
@@ -65,32 +67,25 @@ def fingerprint():
 
 
 # ------------------------------------------------------------------ save
-def python_state(m):
-    """The machine's Python-side state that the memory image needs."""
-    defaults = [p.cost if p else 0 for p in REGISTRY]
-    return {
-        "xt_of": m.xt_of,
-        "forth_wid": m.forth_wid,
-        "root_wid": m.root_wid,
-        "included": sorted(m.included),
-        "block_file": getattr(m.blocks, "path", None),
-        "costs": {REGISTRY[i].name: c for i, c in enumerate(m.cost)
-                  if i and c != defaults[i]},
-    }
+def python_state(snap):
+    """The Python-side part of a snapshot (rcl/forth/state.py): what the
+    JSON holds."""
+    return {k: v for k, v in snap.items() if k not in ("memory", "headers")}
 
 
-def memory_copy(m):
+def memory_copy(m, mem):
     """The memory as it should start: interpreting, from the terminal."""
-    mem = bytearray(m.mem)
+    mem = bytearray(mem)
     for a in (m.a_state, m.a_blk, m.a_in, m.a_ntib):
         mem[a:a + 2] = b"\0\0"
     return bytes(mem)
 
 
 def encode(m):
-    meta = json.dumps(python_state(m)).encode()
-    payload = zlib.compress(struct.pack("<I", len(meta)) + meta + memory_copy(m)
-                            + bytes(m.watch).translate(KEEP_HEADER), 9)
+    snap = state.snapshot(m)
+    meta = json.dumps(python_state(snap)).encode()
+    payload = zlib.compress(struct.pack("<I", len(meta)) + meta + memory_copy(m, snap["memory"])
+                            + snap["headers"], 9)
     head = HEAD.pack(MAGIC, FORMAT, version().encode()[:16], fingerprint(), len(payload))
     return head + hashlib.sha256(head + payload).digest() + payload
 
@@ -158,31 +153,8 @@ def load(m, path):
     """Make m the system saved in path. Everything is checked before the
     machine is touched: a refused image leaves m as it was."""
     meta, mem, watch = decode(read(path), path)
-    m.mem[:] = mem
-    m.watch[:] = watch
-    m.xt_of = meta["xt_of"]
-    m.forth_wid, m.root_wid = meta["forth_wid"], meta["root_wid"]
-    m.included = set(meta.get("included", ()))
-    restore_costs(m, meta.get("costs", {}))
-    m.dictionary.cache.clear()
-    m.dictionary.generation += 1
-    m.invalidate()
-    reopen_blocks(m, meta.get("block_file"))
-    del m.s[:], m.rs[:]
-
-
-def restore_costs(m, costs):
-    from rcl.forth.primitives import BY_NAME
-    m.cost = [p.cost if p else 0 for p in REGISTRY]
-    for name, c in costs.items():
-        if name in BY_NAME:
-            m.cost[BY_NAME[name].number] = int(c)
-
-
-def reopen_blocks(m, path):
-    """The block file open when the image was saved, if it is still there."""
-    if path and hasattr(m.blocks, "open"):
-        try:
-            m.blocks.open(path)
-        except (OSError, RclError):
-            pass
+    for old, new in (("block_file", "blocks"), ("costs", "cost")):   # before the heap was kept
+        if old in meta:
+            meta[new] = meta.pop(old)
+    meta["memory"], meta["headers"] = mem, watch
+    state.restore(m, meta)

@@ -39,7 +39,7 @@ import math
 import os
 
 from rcl.errors import Bye, ForthError, Terminated, as_forth_error
-from rcl.forth import control
+from rcl.forth import control, state
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import REGISTRY, prim
 
@@ -111,6 +111,28 @@ N = {p.name: p.number for p in REGISTRY[1:]}
 DOCOL = N["(DOCOL)"]
 
 
+def default_costs(m=None):
+    return [p.cost if p else 0 for p in REGISTRY]
+
+
+def saved_costs(m):
+    """The primitives' costs that differ from their declarations, by name."""
+    defaults = default_costs()
+    return {REGISTRY[i].name: c for i, c in enumerate(m.cost) if i and c != defaults[i]}
+
+
+def load_costs(m, costs):
+    from rcl.forth.primitives import BY_NAME
+    m.cost = default_costs()
+    for name, c in costs.items():
+        if name in BY_NAME:
+            m.cost[BY_NAME[name].number] = int(c)
+
+
+# clock units per primitive (set_cost changes one): kept with the system
+state.system("cost", default_costs, saved_costs, load_costs)
+
+
 def rt_push(m, v):
     m.s.append(v)
 
@@ -131,13 +153,23 @@ class Inner:
         self.irq = None          # interrupt source: .due and .service(machine)
         self.fn = {}             # code address -> compiled function
         self.interrupts = 0
-        self.cost = [p.cost if p else 0 for p in REGISTRY]   # clock units per primitive
         self.compiled = True     # False: run everything through run_from
         self.waiting_until = None
         self.break_pending = False   # Ctrl-C seen, to be taken at a primitive boundary
         self.leave_signal = None     # and a signal asked to quit
         self.stop_error = None       # or an error to raise there (request_stop)
         self.handler_deadline = math.inf
+        # A wait's fast-forward, if the board behind the machine has one (a
+        # simulated board gives itself at attach): an object with
+        #   wait_started()            a wait (MS) begins
+        #   repeat_idle_ticks(n, c)   n primitives of c units while every
+        #                             tick's handler only reads: counted in
+        #                             arithmetic, clock moved by catch_up,
+        #                             -> primitives left (n: declined)
+        #   skip_to_tick(target)      the time of day run to one tick short
+        #                             of BIOS tick target at once (or not)
+        # Each may decline; the result is the same as waiting tick by tick.
+        self.fast_forward = None
 
     # ---------------------------------------------------------- calling
     def enter(self, addr, ret):

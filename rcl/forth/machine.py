@@ -14,7 +14,7 @@ import threading
 
 from rcl.board import NullBoard
 from rcl.errors import Bye, ForthError, file_error
-from rcl.forth import inner
+from rcl.forth import inner, state
 from rcl.forth.compiler import compile_code
 from rcl.forth.decode import TooLarge
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
@@ -38,6 +38,16 @@ USER_VARIABLES = ["DP", "BASE", "STATE", "DPL", ">IN", "BLK", "#TIB", "SPAN",
                   "WIDE-NUMBER", "CONTEXT"]   # CONTEXT is last: it takes 8 cells
 CLEAR_CODE = bytes(range(256)).translate(bytes(b & ~WATCH_CODE for b in range(256)))
 
+# The machine's own system state (rcl/forth/state.py): the xts the compiler
+# and the kernel lay down (CODE records them), the FORTH and ROOT word
+# lists, the files INCLUDE and REQUIRE have seen.
+state.system("xt_of", lambda m: {}, lambda m: dict(m.xt_of),
+             lambda m, d: setattr(m, "xt_of", {str(k): int(v) for k, v in d.items()}))
+state.system("forth_wid", lambda m: 0)
+state.system("root_wid", lambda m: 0)
+state.system("included", lambda m: set(), lambda m: sorted(m.included),
+             lambda m, d: setattr(m, "included", set(d)))
+
 
 def attr_name(var):
     return "a_" + {"DP": "dp", ">IN": "in", "#TIB": "ntib", "#ORDER": "norder",
@@ -58,11 +68,8 @@ class Forth(Inner, Outer):
         self.dictionary = Dictionary(self)
         for i, var in enumerate(USER_VARIABLES):
             setattr(self, attr_name(var), USER_AREA + 2 * i)
-        self.xt_of = {}
         self.write = write             # callable(str) for streamed output
         self.out = []
-        self.blocks = None
-        self.included = set()
         self.step_limit = None         # primitives one evaluate() may run
         self.keys = []                 # typed-ahead key codes for KEY
         self.read_key = None           # callable() -> key code, at the prompt
@@ -73,17 +80,12 @@ class Forth(Inner, Outer):
         self.in_safe_state = False     # running the abort hooks (after an error)
         self._init_inner()
         self._init_outer()
-        from rcl.words.blocks import BlockFile
-        self.blocks = BlockFile(self)
+        state.init(self)                   # every word set's declared state, fresh
         if type(self)._image is None:
             self._boot()
-            type(self)._image = (bytes(self.mem), bytes(self.watch), dict(self.xt_of),
-                                 self.forth_wid, self.root_wid)
+            type(self)._image = state.snapshot(self)
         else:
-            mem, watch, self.xt_of, self.forth_wid, self.root_wid = type(self)._image
-            self.mem[:] = mem
-            self.watch[:] = watch
-            self.xt_of = dict(self.xt_of)
+            state.restore(self, type(self)._image)
         self.board = board if board is not None else NullBoard()
         self.board.attach(self)
 

@@ -32,23 +32,14 @@ import serial
 from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
+from rcl.i80188 import PCB_BASE
 
 US = CLOCK_HZ // 1_000_000
-PCB_BASE = 0xFF00
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost (silence_clock's)
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
 STALL = 0.030                # s: a longer gap between the reader's reads is this process's stall
-
-# What RCL's ?CNT1 and ?CNT2 do at every tick (layer 3): latch counters 1
-# and 2 of each 8253, read each low byte then high byte. The board does it
-# at the tick and sends the eight bytes with it.
-COUNTER_SCRIPT = [op for base in (0x80, 0x84) for op in (
-    (P.SCRIPT_OUT, base + 3, 0x40), (P.SCRIPT_OUT, base + 3, 0x80),
-    (P.SCRIPT_IN, base + 1, 0), (P.SCRIPT_IN, base + 1, 0),
-    (P.SCRIPT_IN, base + 2, 0), (P.SCRIPT_IN, base + 2, 0))]
-
 
 class LinkLost(P.LinkError):
     """The board stopped answering."""
@@ -61,7 +52,7 @@ def link_lost():
 class LinkBoard(Board):
     """A board over a link; `open_port()` -> an open pyserial port."""
 
-    def __init__(self, open_port, script=COUNTER_SCRIPT):
+    def __init__(self, open_port, script=()):
         self.open_port, self.script = open_port, list(script)
         self.port = None
         self.lock = threading.Lock()          # one writer on the port at a time
@@ -342,6 +333,22 @@ class LinkBoard(Board):
         if us != self.told_us:
             self.post("CLOCK", us=us & 0xFFFFFFFF)
             self.told_us = us
+
+    def tick_reads(self, ops):
+        """What the software's tick handler reads first (RCL's counter
+        words say it): the board does it at every tick and sends the bytes
+        with the TICK, so a tick costs no round trip. Kept for the next
+        connect."""
+        ops = [tuple(op) for op in ops]
+        if ops == self.script:                # this session has it already
+            return
+        self.script = ops
+        if not self.usable():
+            return
+        try:                                  # not a port access: no CLOCK before it, so
+            self.request("SNAPSHOT", ops=self.script)   # a lockstep board's time moves as before
+        except LinkLost as e:
+            self.lose(str(e))
 
     # ------------------------------------------------------------ port I/O
     def out8(self, port, byte):

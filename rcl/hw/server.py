@@ -33,6 +33,7 @@ import time
 
 from rcl.board import CLOCK_HZ, FORTH_CS
 from rcl.hw import protocol as P
+from rcl.i80188 import EN, INT, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK, VECTOR_USER_TICK
 from rcl.sim.board import SimBoard
 
 US = CLOCK_HZ // 1_000_000
@@ -41,7 +42,6 @@ US = CLOCK_HZ // 1_000_000
 # 0.5 us, the 8253s' 8 us and the physics' 1 ms), so CLOCK's times land on
 # the same edges as the simulation's.
 ALIGN = 3000 * US
-PCB_T0_CONTROL, PCB_TIMER_MASK = 0x56, 0x32
 STALL = 0.020                # s: a longer gap between the watchdog's looks is the board's stall
 
 
@@ -239,10 +239,10 @@ class BoardServer:
         """Timer 0 interrupts, unmasked, into INT 1Ch in the Forth segment."""
         b = self.board
         pcb = b.pcb
-        control = pcb.read16(PCB_T0_CONTROL, b.pcb_time())
-        mask = pcb.read16(PCB_TIMER_MASK, b.pcb_time())
-        return control & 0xA000 == 0xA000 and not mask & 0x8 \
-            and b.vector(0x1C)[0] == FORTH_CS
+        control = pcb.read16(T0_CONTROL, b.pcb_time())
+        mask = pcb.read16(TIMER_CONTROL_REG, b.pcb_time())
+        return control & (EN | INT) == EN | INT and not mask & TIMER_MASK \
+            and b.vector(VECTOR_USER_TICK)[0] == FORTH_CS
 
     # ----------------------------------------------------------- sending
     def send(self, message, /, seq=None, **values):

@@ -40,6 +40,8 @@ import functools
 import struct
 
 from rcl.board import CLOCK_HZ, FORTH_CS, OUT8, Board
+from rcl.i80188 import (BIOS_IRET, BIOS_SEG, BIOS_TIMER, EOI_REG, EOI_TIMER,
+                         MIDNIGHT_ADDR, PER_DAY_ADDR, T0_CONTROL, TICKS_ADDR)
 from rcl.sim import constants as C
 from rcl.sim.i8253 import I8253
 from rcl.sim.motors import Drive
@@ -47,10 +49,7 @@ from rcl.sim.timer80188 import (INH as INH_BIT, INT as INT_BIT, P as P_BIT, T0_C
                                 TIMER_CLOCK, Timer80188)
 
 MS = CLOCK_HZ // 1000                     # clock units per physics sub-step
-BIOS_SEG, BIOS_TIMER, BIOS_IRET = 0xF000, 0xFEA5, 0xFF53
-TICKS_ADDR, MIDNIGHT_ADDR, PER_DAY_ADDR = 0x46C, 0x470, 0x4F0
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
-EOI_TIMER = 0x0008
 DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
 
@@ -62,8 +61,7 @@ class SimBoard(Board):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
         self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
-        self.encoders = (self.chips[C.LEFT_8253].counters[1:]      # the wheels' CLK1 CLK2
-                         + self.chips[C.RIGHT_8253].counters[1:])
+        self.left, self.right = self.chips[C.LEFT_8253], self.chips[C.RIGHT_8253]
         self.clk0 = {C.LEFT_8253: 0, C.RIGHT_8253: 0}   # 125 kHz pulses delivered
         self.drive = Drive()
         self.motor_latch = 0
@@ -88,11 +86,12 @@ class SimBoard(Board):
     def attach(self, machine):
         self.machine = machine
         self.due = self.pcb.next_interrupt(self.pcb_time())
+        machine.fast_forward = self       # waits may count idle ticks out (below)
         machine.attach(self)
 
     def _power_on_bios(self):
-        self.set_vector(8, BIOS_SEG, BIOS_TIMER)
-        self.set_vector(0x1C, BIOS_SEG, BIOS_IRET)
+        self.set_vector(C.VECTOR_TIMER0, BIOS_SEG, BIOS_TIMER)
+        self.set_vector(C.VECTOR_USER_TICK, BIOS_SEG, BIOS_IRET)
         self.low_store32(PER_DAY_ADDR, C.TICKS_PER_DAY_BIOS)
 
     # ------------------------------------------------------------ memory
@@ -101,6 +100,12 @@ class SimBoard(Board):
 
     def low_store32(self, a, v):
         DWORD.pack_into(self.low, a, v & 0xFFFFFFFF)
+
+    def time_of_day(self):
+        return self.low_fetch32(TICKS_ADDR), max(1, self.low_fetch32(PER_DAY_ADDR))
+
+    def set_time_of_day(self, ticks):
+        self.low_store32(TICKS_ADDR, ticks)
 
     def set_vector(self, n, seg, off):
         self.low[4 * n:4 * n + 4] = off.to_bytes(2, "little") + seg.to_bytes(2, "little")
@@ -132,14 +137,13 @@ class SimBoard(Board):
         are decoded apart; any other port floats."""
         writers, readers = {}, {}
         for base, chip in self.chips.items():
-            ref, fwd, rev = chip.counters
             writers[base] = functools.partial(self._write_reference, base)
             writers[base + 3] = functools.partial(self._write_control, base)
             readers[base] = functools.partial(self._read_reference, base)
             readers[base + 3] = self._read_control
-            for offset, counter in ((1, fwd), (2, rev)):
-                writers[base + offset] = functools.partial(self._write_encoder, counter)
-                readers[base + offset] = functools.partial(self._read_encoder, counter)
+            for offset in (C.CTR_FORWARD, C.CTR_REVERSE):
+                writers[base + offset] = functools.partial(self._write_encoder, chip, offset)
+                readers[base + offset] = functools.partial(self._read_encoder, chip, offset)
         writers[C.MOTOR_PORT] = functools.partial(self._latch, C.MOTOR_PORT)
         writers[C.AUX_PORT] = functools.partial(self._latch, C.AUX_PORT)
         readers[C.STATUS_PORT] = self._read_status
@@ -178,12 +182,12 @@ class SimBoard(Board):
 
     def _write_reference(self, base, byte, now):
         """Counter 0, the speed reference: a count's byte."""
-        counter = self.chips[base].counters[0]
-        if not counter.write_acts(byte):    # CLK may catch up later, as if before
-            counter.write(byte)
+        chip = self.chips[base]
+        if not chip.write_acts(C.CTR_SPEED, byte):    # CLK may catch up later, as if before
+            chip.write(C.CTR_SPEED, byte)
             return
         self._clock_ref(base, now)
-        if counter.write(byte):
+        if chip.write(C.CTR_SPEED, byte):
             self._new_references(now)
 
     def _write_control(self, base, byte, now):
@@ -201,21 +205,21 @@ class SimBoard(Board):
             self.sync_to(now)
             self.refs = refs
 
-    def _write_encoder(self, counter, byte, now):
+    def _write_encoder(self, chip, offset, byte, now):
         self.sync_to(now)
-        counter.write(byte)
+        chip.write(offset, byte)
 
     def _read_reference(self, base, now):
         self._clock_ref(base, now)
-        return self.chips[base].counters[0].read()
+        return self.chips[base].read(C.CTR_SPEED)
 
     def _read_control(self, now):
         return I8253.CONTROL_READ           # write-only
 
-    def _read_encoder(self, counter, now):
-        if not counter.latched:             # CE itself: the pulses up to now
+    def _read_encoder(self, chip, offset, now):
+        if not chip.latched(offset):        # CE itself: the pulses up to now
             self.sync_to(now)
-        return counter.read()
+        return chip.read(offset)
 
     def _read_status(self, now):
         self.sync_to(now)
@@ -274,14 +278,14 @@ class SimBoard(Board):
     def _clock_ref(self, base, now):
         """Bring counter 0 (the 125 kHz speed reference) up to now."""
         pulses = now * C.F_8253_CLK // CLOCK_HZ
-        self.chips[base].counters[0].clock(pulses - self.clk0[base])
+        self.chips[base].clock(C.CTR_SPEED, pulses - self.clk0[base])
         self.clk0[base] = pulses
 
     def references(self):
         """The two PLL reference frequencies, Hz (0 if not running)."""
         chips = self.chips
-        return (chips[C.LEFT_8253].counters[0].frequency(C.F_8253_CLK),
-                chips[C.RIGHT_8253].counters[0].frequency(C.F_8253_CLK))
+        return (chips[C.LEFT_8253].frequency(C.CTR_SPEED, C.F_8253_CLK),
+                chips[C.RIGHT_8253].frequency(C.CTR_SPEED, C.F_8253_CLK))
 
     # ----------------------------------------------------------- physics
     def sync(self):
@@ -307,7 +311,7 @@ class SimBoard(Board):
         time. So the moments at which the physics is brought up change
         nothing."""
         drive = self.drive
-        if not (drive.left.rate or drive.right.rate) and self.is_idle():   # a turning wheel is never idle
+        if not (drive.left.rate or drive.right.rate) and self.still():   # a turning wheel never is
             self.physics_ms = target
             return
         pulses = drive.advance(target - self.physics_ms, self.motor_latch, self.aux_latch, *self.refs)
@@ -315,8 +319,12 @@ class SimBoard(Board):
         if pulses != NO_MOTION:
             self.deliver(pulses)
 
-    def is_idle(self):
-        """Nothing moves and nothing would start moving."""
+    def still(self):
+        """The physics' own fact: nothing moves and nothing would start
+        moving (no wheel turns, no motor is driven, arm, gripper and
+        beeper off). Not RCL's idle rule (IDLE?, in the screens: the tick
+        handler has nothing to do), which the machine asks; a tick's reads
+        repeat only when both hold."""
         d, m = self.drive, self.motor_latch
         if d.left.rate or d.right.rate or self.aux_latch & (C.ARM_ON | C.GRIP_ON | C.BEEPER):
             return False
@@ -326,15 +334,15 @@ class SimBoard(Board):
 
     def deliver(self, pulses):
         (lf, lr), (rf, rr) = pulses
-        left_fwd, left_rev, right_fwd, right_rev = self.encoders
+        left, right = self.left, self.right     # the wheels' pulses on CLK1 and CLK2
         if lf:
-            left_fwd.clock(lf)
+            left.clock(C.CTR_FORWARD, lf)
         if lr:
-            left_rev.clock(lr)
+            left.clock(C.CTR_REVERSE, lr)
         if rf:
-            right_fwd.clock(rf)
+            right.clock(C.CTR_FORWARD, rf)
         if rr:
-            right_rev.clock(rr)
+            right.clock(C.CTR_REVERSE, rr)
 
     # -------------------------------------------------------- interrupts
     def refresh_due(self):
@@ -362,7 +370,7 @@ class SimBoard(Board):
         kind = self.pcb.acknowledge(at)
         if kind != C.VECTOR_TIMER0:
             if kind is not None:                # timers 1 and 2: nothing hangs there
-                self.pcb.write16(0x22, 0x8000, self.pcb_time(m.clock))
+                self.pcb.write16(EOI_REG, 0x8000, self.pcb_time(m.clock))
             self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
             return
         self.ticks += 1
@@ -372,7 +380,7 @@ class SimBoard(Board):
         except BaseException:
             self.end_of_interrupt(m)
             raise
-        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+        self.pcb.write16(EOI_REG, EOI_TIMER, self.pcb_time(m.clock))
         if self.batch_idle_ticks(m):
             nxt = self.pcb.next_interrupt(self.pcb_time(m.clock))
         self.due = nxt
@@ -388,7 +396,7 @@ class SimBoard(Board):
     def end_of_interrupt(self, m):
         """The EOI, and the next interrupt from there (after a handler
         failed: it may have left the timer anywhere)."""
-        self.pcb.write16(0x22, EOI_TIMER, self.pcb_time(m.clock))
+        self.pcb.write16(EOI_REG, EOI_TIMER, self.pcb_time(m.clock))
         self.due = self.pcb.next_interrupt(self.pcb_time(m.clock))
 
     def batch_idle_ticks(self, m):
@@ -397,7 +405,7 @@ class SimBoard(Board):
         (Each would have run at its own time with the same result.)"""
         target = m.waiting_until
         if target is None or self.pacer is not None \
-                or (self.vector(0x1C)[0] == FORTH_CS and not self.quiet) \
+                or (self.vector(C.VECTOR_USER_TICK)[0] == FORTH_CS and not self.quiet) \
                 or not self.observers_allow_batching():
             return False
         n = self.pcb.take_timer0_requests(target)
@@ -411,7 +419,7 @@ class SimBoard(Board):
         which something changes, none while all is idle, so it is shown
         the idle state the stretch starts from, now."""
         if any(not getattr(o, "changes_only", False) for o in self.observers) \
-                or (self.observers and not self.is_idle()):
+                or (self.observers and not self.still()):
             return False
         for observe in self.observers:
             observe(self)
@@ -433,11 +441,16 @@ class SimBoard(Board):
     def bios_tick(self, m):
         """Type 8: count the tick (midnight wrap), then INT 1Ch."""
         self.count_ticks(1)
-        seg, off = self.vector(0x1C)
+        seg, off = self.vector(C.VECTOR_USER_TICK)
         if seg == FORTH_CS and not self.quiet:
             start = m.clock
             m.run_handler(off)
             self.handler_cost = m.clock - start
+
+    # ------------------------------------------------------- fast-forward
+    # What this board gives its machine as machine.fast_forward (rcl.sim's
+    # capability, not the board interface's): waits that count idle ticks
+    # in arithmetic, exactly as ticking through would leave everything.
 
     def skip_to_tick(self, target):
         """Let the time of day run until the BIOS count is one short of
@@ -473,14 +486,14 @@ class SimBoard(Board):
         cost, d = self.handler_cost, self.due
         period = self.tick_period()
         if cost is None or d is None or cost >= period \
-                or self.pacer is not None or not self.is_idle() \
+                or self.pacer is not None or not self.still() \
                 or not self.observers_allow_batching():
             return n
         clock, n, ticks, last = count_out(m.clock, n, c, d, period, cost, m.budget_end)
         if ticks:
             self.pcb.take_timer0_requests(last)
             self.pcb.acknowledge(last)
-            self.pcb.write16(0x22, EOI_TIMER, last)
+            self.pcb.write16(EOI_REG, EOI_TIMER, last)
             self.ticks += ticks
             self.count_ticks(ticks)
         self.due = self.pcb.next_interrupt(self.pcb_time(max(m.clock, clock)))
@@ -509,8 +522,8 @@ class SimBoard(Board):
         sets it up again."""
         self.stop_motors()
         now = self.pcb_time()
-        control = self.pcb.read16(0x56, now)
-        self.pcb.write16(0x56, (control & ~INT_BIT) | INH_BIT, now)
+        control = self.pcb.read16(T0_CONTROL, now)
+        self.pcb.write16(T0_CONTROL, (control & ~INT_BIT) | INH_BIT, now)
         self.pcb.drop_requests(0, now)
         self.refresh_due()
 

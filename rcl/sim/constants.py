@@ -1,6 +1,8 @@
-"""Constants of the simulated R-E Robot board, from reference/board-hardware.md.
-
-One module, so that every number of the hardware has one name and one tag
+"""Constants of the simulated R-E Robot board, from reference/board-hardware.md:
+the simulator's own (clocks, motor and PLL model, arm and gripper), and,
+imported here so the simulator has them under one name, the robot's
+hardware facts (rcl/robot.py: port map, bits, geometry) and the 80188's
+(rcl/i80188.py). Every number of the hardware has one name and one tag
 (section 8 of the reference):
 
     ARTICLE   stated by the Radio-Electronics article (the seed document)
@@ -17,7 +19,14 @@ Bit constants are masks (1 << bit), ready for `byte & MASK`:
     STATUS      0x8A   7  6       5       4       3           2           1          0
                        0  CHARGER M2-LOCK M1-LOCK GRIP-CLOSED GRIP-OPENED ARM-BOTTOM ARM-TOP
 """
-import math
+
+from rcl import i80188
+from rcl.robot import (  # noqa: F401  (the hardware facts, one name each)
+    WHEEL_CIRC_IN, TRACK_IN, COUNTS_PER_INCH, COUNTS_PER_SPIN, N_MIN, CRPM_MAX, G_IN_S2,
+    LEFT_8253, RIGHT_8253, MOTOR_PORT, AUX_PORT, STATUS_PORT, PCB_BASE, CTR_SPEED, CTR_FORWARD,
+    CTR_REVERSE, CTR_CONTROL, M1_ON, M1_REV, M2_ON, M2_REV, M1_GO, M2_GO, ARM_ON, ARM_DOWN,
+    GRIP_ON, GRIP_CLOSE, BEEPER, RELAYS_AUX_SHIFT, ARM_TOP, ARM_BOTTOM, GRIP_OPENED,
+    GRIP_CLOSED, M1_LOCK, M2_LOCK, CHARGER)
 
 # ---------------------------------------------------------------------------
 # CLOCKS AND COUNTERS (sections 1, 2, 3.4)
@@ -33,18 +42,6 @@ T0_BIOS_COUNT = 36_617              # power-on max count, 54.9255 ms [PROPOSAL]
 TICKS_PER_DAY_RCL = 8_640_000       # 86,400 s / 10 ms [derived, ARTICLE]
 TICKS_PER_DAY_BIOS = 1_573_040      # PC value, 0x1800B0 [PROPOSAL]
 TICK_S = 0.010                      # RCL control tick, 100 per second [ARTICLE]
-
-# ---------------------------------------------------------------------------
-# GEOMETRY AND UNITS (sections 7.1, 7.2, 7.4)
-# ---------------------------------------------------------------------------
-
-WHEEL_CIRC_IN = 17.6                # 1 MPH = 1 wheel rev/s [PROPOSAL]
-TRACK_IN = 44 / math.pi             # 14.006 in: a spin moves each wheel 44 in [PROPOSAL]
-COUNTS_PER_INCH = 625 / 22          # 28.409 = ENCODER_CPR / WHEEL_CIRC_IN [derived]
-COUNTS_PER_SPIN = 1250              # counts per wheel for a 360-degree spin [derived]
-N_MIN = 50                          # smallest 8253 speed count, 5 MPH, 2500 Hz [PROPOSAL]
-CRPM_MAX = 30_000                   # internal speed limit, centi-rpm, 300 rpm [PROPOSAL]
-G_IN_S2 = 386.4                     # 1 G = 32.2 ft/s^2 [ARTICLE]
 
 # ---------------------------------------------------------------------------
 # DRIVE MOTOR + PLL MODEL (section 6.1)
@@ -69,60 +66,9 @@ GRIP_SPEED_IN_S = 0.5               # jaw speed [PROPOSAL]
 GRIP_TRAVEL_IN = 3.0                # jaw opening 0.0 .. 3.0 in, power-on 0.0 [PROPOSAL]
 
 # ---------------------------------------------------------------------------
-# PORT MAP (section 5.1)
-# ---------------------------------------------------------------------------
-
-LEFT_8253 = 0x80                    # 8253 #1, motor 1 = left wheel [PROPOSAL]
-RIGHT_8253 = 0x84                   # 8253 #2, motor 2 = right wheel [PROPOSAL]
-MOTOR_PORT = 0x88                   # MOTOR relay/drive latch, write-only [PROPOSAL]
-AUX_PORT = 0x89                     # AUX latch: arm, gripper, beeper [PROPOSAL]
-STATUS_PORT = 0x8A                  # STATUS input, read-only [PROPOSAL]
-PCB_BASE = 0xFF00                   # 80188 peripheral control block [INTEL]
-
-# 8253 counter offsets from LEFT_8253 / RIGHT_8253 (section 5.2) [PROPOSAL]
-CTR_SPEED = 0                       # counter 0: speed reference, mode 3 [ARTICLE]
-CTR_FORWARD = 1                     # counter 1: forward encoder counts [ARTICLE]
-CTR_REVERSE = 2                     # counter 2: reverse encoder counts [ARTICLE]
-CTR_CONTROL = 3                     # control word register [INTEL]
-
-# ---------------------------------------------------------------------------
-# MOTOR LATCH BITS, port 0x88 (section 5.3) [PROPOSAL]
-# ---------------------------------------------------------------------------
-
-M1_ON = 0x01                        # bit 0: left relay closed (0 = braking short)
-M1_REV = 0x02                       # bit 1: left direction reverse
-M2_ON = 0x04                        # bit 2: right relay closed
-M2_REV = 0x08                       # bit 3: right direction reverse
-M1_GO = 0x10                        # bit 4: left PLL and drive current on
-M2_GO = 0x20                        # bit 5: right PLL and drive current on
-
-# ---------------------------------------------------------------------------
-# AUX LATCH BITS, port 0x89 (section 5.4) [PROPOSAL]
-# ---------------------------------------------------------------------------
-
-ARM_ON = 0x01                       # bit 0: lift motor running
-ARM_DOWN = 0x02                     # bit 1: lift direction down (0 = up)
-GRIP_ON = 0x04                      # bit 2: gripper motor running
-GRIP_CLOSE = 0x08                   # bit 3: gripper closing (0 = opening)
-BEEPER = 0x10                       # bit 4: piezo beeper sounding
-RELAYS_AUX_SHIFT = 8                # AUX byte is the high byte of RCL's RELAYS cell
-
-# ---------------------------------------------------------------------------
-# STATUS BITS, port 0x8A (section 5.5) [PROPOSAL]
-# ---------------------------------------------------------------------------
-
-ARM_TOP = 0x01                      # bit 0: lift at its upper limit switch
-ARM_BOTTOM = 0x02                   # bit 1: lift at its lower limit switch
-GRIP_OPENED = 0x04                  # bit 2: jaws at the fully-open limit
-GRIP_CLOSED = 0x08                  # bit 3: jaws closed, or stalled on an object
-M1_LOCK = 0x10                      # bit 4: left PLL locked
-M2_LOCK = 0x20                      # bit 5: right PLL locked
-CHARGER = 0x40                      # bit 6: on the charging contacts
-
-# ---------------------------------------------------------------------------
 # MEMORY AND INTERRUPTS (sections 3.3, 5.7)
 # ---------------------------------------------------------------------------
 
 FORTH_CS = 0x1000                   # segment GET-CS returns [PROPOSAL]
-VECTOR_TIMER0 = 0x08                # 80188 timer 0 interrupt type [INTEL]
-VECTOR_USER_TICK = 0x1C             # BIOS user timer hook, INT 1Ch [ARTICLE]
+VECTOR_TIMER0 = i80188.VECTOR_TIMER0        # 80188 timer 0 interrupt type [INTEL]
+VECTOR_USER_TICK = i80188.VECTOR_USER_TICK  # BIOS user timer hook, INT 1Ch [ARTICLE]

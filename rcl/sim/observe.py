@@ -85,7 +85,7 @@ class Sim:
 
     @property
     def bios_ticks(self):
-        return self.board.low_fetch32(0x46C)
+        return self.board.time_of_day()[0]
 
     def counter(self, side, n):
         """The 8253 counter n (0 speed, 1 forward, 2 reverse) of a wheel."""

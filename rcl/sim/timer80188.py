@@ -71,12 +71,15 @@ NOTES (not modelled):
 """
 from rcl.errors import RclError
 from rcl.board import CLOCK_HZ
+from rcl.i80188 import (ALT, CONT, EN, EOI_NONSPECIFIC, EOI_REG, EOI_TIMER, EXT,  # noqa: F401
+                        IN_SERVICE_REG, INH, INT, MASK_REG, MC, P, PCB_BASE, REQUEST_REG,
+                        RIU, RTG, STATUS_REG, TIMER_CONTROL_REG, TIMER_MASK, TIMER_TYPES,
+                        TMR_BIT)
 
 # ---------------------------------------------------------------------------
 # CONSTANTS (board-hardware.md sections 3, 5.7, 8)
 # ---------------------------------------------------------------------------
 
-PCB_BASE = 0xFF00                   # PCB I/O base after reset [INTEL]
 CPU_HZ = 8_000_000                  # 80188 clock [PROPOSAL]
 TIMER_HZ = CPU_HZ // 4              # internal timer clock, 2 MHz [INTEL]
 TIMER_CLOCK = CLOCK_HZ // TIMER_HZ  # 18,000 units = 0.5 us per timer clock
@@ -86,17 +89,6 @@ T0_BIOS_COUNT = 36_617              # power-on max count, 54.9255 ms [PROPOSAL]
 T0_RCL_COUNT = 6667                 # RCL's max count, 10.0005 ms [ARTICLE]
 COUNT_RANGE = 0x10000               # a max count of 0 means 65,536
 
-# Control register bits
-EN = 0x8000
-INH = 0x4000
-INT = 0x2000
-RIU = 0x1000
-MC = 0x0020
-RTG = 0x0010
-P = 0x0008
-EXT = 0x0004
-ALT = 0x0002
-CONT = 0x0001
 T01_BITS = INT | MC | RTG | P | EXT | ALT | CONT   # writable besides EN
 T2_BITS = INT | MC | CONT
 
@@ -104,17 +96,7 @@ T0_RUNNING = EN | INH | INT | P | CONT   # 0xE009, RCL's INT-ON
 T0_INT_OFF = EN | INH | P | CONT         # 0xC009, RCL's INT-OFF: keeps counting
 T2_RUNNING = EN | INH | CONT             # 0xC001, the prescaler
 
-# Interrupt controller registers (offsets from PCB_BASE) and values
-EOI_REG = 0x22
-MASK_REG = 0x28
-IN_SERVICE_REG = 0x2C
-REQUEST_REG = 0x2E
-STATUS_REG = 0x30
-TIMER_CONTROL_REG = 0x32
-EOI_NONSPECIFIC = 0x8000
-EOI_TIMER = 0x0008                  # specific EOI, type 8 = the timers
-TMR_BIT = 0x0001                    # timer bit of mask/in-service/request
-TIMER_MASK = 0x0008                 # mask bit of the timer control 0x32
+# Interrupt controller values (the registers are rcl/i80188.py's)
 PRIORITY_BITS = 0x0007
 RESET_TIMER_CONTROL = 0x000F        # masked, priority 7
 RESET_MASK = 0x00FD                 # every source masked
@@ -124,7 +106,6 @@ TIMER_REGISTERS = {                 # offset -> (timer, Timer attribute)
     0x58: (1, "count"), 0x5A: (1, "max_a"), 0x5C: (1, "max_b"), 0x5E: (1, "control"),
     0x60: (2, "count"), 0x62: (2, "max_a"), 0x66: (2, "control"),
 }
-TIMER_TYPES = (8, 18, 19)           # interrupt type of timer 0, 1, 2 [INTEL]
 
 # Input clock sources
 INTERNAL, PRESCALED, EXTERNAL = "internal", "prescaled", "external"

@@ -14,8 +14,7 @@ by tenths of a degree): pass settle=False to look at once.
 import re
 
 from rcl.forth.memory import MASK, signed
-from rcl.sim import constants as C
-from rcl.sim.board import PER_DAY_ADDR
+from rcl import robot as C
 from rcl.testing.moves import pose_text, wrap
 
 SETTLE_LIMIT_S = 2.0          # a braked wheel's rate reaches 0 in ~0.9 s
@@ -52,9 +51,8 @@ def come_to_rest(m, limit=SETTLE_LIMIT_S):
 
 def time_of_day(m):
     """Seconds since midnight by the board's BIOS tick count."""
-    board = m.sim.board
-    per_day = board.low_fetch32(PER_DAY_ADDR) or 1
-    return m.sim.bios_ticks * 86400.0 / per_day
+    ticks, per_day = m.board.time_of_day()
+    return ticks * 86400.0 / per_day
 
 
 def clock_text(seconds):

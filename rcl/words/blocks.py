@@ -18,9 +18,10 @@ loaded screen names the file, the screen and the line.
 import os
 
 from rcl.blocks import LINE, LINES, BlockFormatError, is_block_file, text_to_blocks
-from rcl.errors import ForthError
+from rcl.errors import ForthError, RclError
 from rcl.forth.memory import BLOCK_BUFFERS, MASK, signed
 from rcl.forth.outer import Source
+from rcl.forth import state
 from rcl.forth.primitives import prim
 from rcl.words.compiling import parse_word
 
@@ -185,6 +186,20 @@ class BlockFile:
             raise
         finally:
             m.pop_source()
+
+
+def reopen_blocks(m, path):
+    """The block file open when the system was saved, if it is still there."""
+    m.blocks = BlockFile(m)
+    if path:
+        try:
+            m.blocks.open(path)
+        except (OSError, RclError):
+            pass
+
+
+# The open block file is the system's (an image names it; its buffers start empty).
+state.system("blocks", BlockFile, lambda m: m.blocks.path, reopen_blocks)
 
 
 def bf(m):

@@ -15,7 +15,7 @@ address and a tag saying what it is; a word that finds the wrong tag
 aborts with ` Conditionals Wrong `, as F83 does.
 """
 from rcl.errors import ForthError
-from rcl.forth import inner
+from rcl.forth import inner, state
 from rcl.forth.dictionary import HIDDEN, IMMEDIATE
 from rcl.forth.memory import MASK, signed
 from rcl.forth.primitives import BY_NAME, prim
@@ -88,6 +88,11 @@ def colon(m):
     begin_colon(m, xt, m.dictionary.last)
 
 
+# The colon definition being compiled (its xt, its header; 0: none): the session's.
+state.session("colon_xt", lambda m: 0)
+state.session("colon_lfa", lambda m: 0)
+
+
 def begin_colon(m, xt, lfa):
     m.colon_xt, m.colon_lfa = xt, lfa
     m.locals = None                   # no locals until {: declares them
@@ -110,7 +115,7 @@ def semicolon(m):
         m.locals.unwind(m)
         m.locals = None
     compile_name(m, "EXIT")
-    if getattr(m, "colon_lfa", 0):
+    if m.colon_lfa:
         m.dictionary.set_flag(m.colon_lfa, HIDDEN, False)
     m.colon_lfa = 0
     m.memory.store(m.a_state, 0)
@@ -121,7 +126,7 @@ prim(";", "( -- ) end the definition; ` Stack Changed ` if the stack moved",
 
 
 def recursive(m):
-    if getattr(m, "colon_lfa", 0):
+    if m.colon_lfa:
         m.dictionary.set_flag(m.colon_lfa, HIDDEN, False)
 
 

@@ -5,7 +5,11 @@ puts the stacks back to their depths at CATCH and pushes the code.
 """
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, signed
+from rcl.forth import state
 from rcl.forth.primitives import prim
+
+# The message of the last ABORT" CATCH caught, for THROW -2: the session's.
+state.session("abort_message", lambda m: "")
 
 
 @prim("CATCH", "( i*x xt -- j*x 0 | i*x n ) run xt; catch what it throws", kind="call")
@@ -32,7 +36,7 @@ def catch(m):
 def throw(m):
     n = signed(m.s.pop())
     if n == -2:
-        raise ForthError(-2, getattr(m, "abort_message", ""))
+        raise ForthError(-2, m.abort_message)
     if n:
         raise ForthError(n)
 

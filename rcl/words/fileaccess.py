@@ -16,6 +16,7 @@ import os
 
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
+from rcl.forth import state
 from rcl.forth.primitives import prim
 from rcl.words.core import pop2, push2
 
@@ -64,11 +65,12 @@ class FileTable:
         return f is not None
 
 
+# The open files are the session's (a restored system has none open).
+state.session("files", lambda m: FileTable())
+
+
 def files(m):
-    t = getattr(m, "files", None)
-    if t is None:
-        t = m.files = FileTable()
-    return t
+    return m.files
 
 
 def host_name(m, a, u):

@@ -8,7 +8,12 @@ Lines may be of any length the input area holds.
 import os
 
 from rcl.errors import ForthError, file_error
+from rcl.forth import state
 from rcl.forth.primitives import prim
+
+# The folder RCL's screens were loaded from (rcl.open sets it; None: the
+# installed ones), where INCLUDE looks last: the session's.
+state.session("screens_dir", lambda m: None)
 from rcl.words.compiling import parse_word
 
 
@@ -22,7 +27,7 @@ def resolve(m, name):
                 return near
     if os.path.exists(name) or os.path.isabs(name):
         return name
-    folder = getattr(m, "screens_dir", None) or screens_folder()
+    folder = m.screens_dir or screens_folder()
     there = os.path.join(folder, name)
     return there if os.path.isfile(there) else name
 

@@ -15,6 +15,7 @@ whole cells. Exhaustion or a bad address gives the standard ior
 import bisect
 
 from rcl.forth.memory import DICT_LIMIT, MASK, PAD_OFFSET
+from rcl.forth import state
 from rcl.forth.primitives import prim
 
 ALLOCATE_IOR, FREE_IOR, RESIZE_IOR = -59, -60, -61
@@ -89,11 +90,28 @@ class Heap:
         return b
 
 
+    def plain(self):
+        return {"used": sorted(self.used.items()), "free": [list(b) for b in self.free]}
+
+    @classmethod
+    def from_plain(cls, m, data):
+        """The heap a snapshot holds (heap_floor is restored on its own)."""
+        h, floor = cls.__new__(cls), m.heap_floor
+        h.m = m
+        h.used = {int(a): int(n) for a, n in data["used"]}
+        h.free = [(int(a), int(n)) for a, n in data["free"]]
+        m.heap = h
+        return h
+
+
+# The heap's blocks and floor are the system's: a saved system keeps them
+# (its blocks' bytes are in the image), so FREE and ALLOCATE go on from there.
+state.system("heap_floor", lambda m: DICT_LIMIT)
+state.system("heap", Heap, lambda m: m.heap.plain(), Heap.from_plain)
+
+
 def heap(m):
-    h = getattr(m, "heap", None)
-    if h is None:
-        h = m.heap = Heap(m)
-    return h
+    return m.heap
 
 
 @prim("ALLOCATE", "( u -- addr ior ) u bytes from the heap; ior -59 if there is no room")
@@ -116,4 +134,4 @@ def resize(m):
 
 def dictionary_limit(m):
     """Where the dictionary must stop: the heap's floor (DICT_LIMIT when empty)."""
-    return getattr(m, "heap_floor", DICT_LIMIT)
+    return m.heap_floor

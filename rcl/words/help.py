@@ -3,7 +3,12 @@ uses. What a word is comes from rcl/wordinfo.py (the screens' stack
 comments and the primitives' declarations), imported when first asked
 for, since it reads the machine's own tables."""
 from rcl.errors import ForthError
+from rcl.forth import state
 from rcl.forth.primitives import prim
+
+# Where the documented words end (rcl.open sets it once RCL is loaded;
+# None: FENCE): HELP says a word defined after it is defined again.
+state.session("documented_end", lambda m: None)
 
 START = """\
 rcl: RCL, the Robotic Control Language of the 1986 R-E Robot, on F83 Forth.
@@ -59,7 +64,8 @@ def help_word(m):
         m.type("\n%s  a word of your own: SEE %s shows it\n" % (word, word))
         return
     m.type("\n" + entry.help() + "\n")
-    if hit[0] >= getattr(m, "documented_end", m.memory.fetch(m.a_fence)):
+    end = m.documented_end
+    if hit[0] >= (end if end is not None else m.memory.fetch(m.a_fence)):
         m.type("  (defined again since start-up: SEE %s shows this one)\n" % word)
 
 

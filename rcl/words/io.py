@@ -6,6 +6,7 @@ collects for `evaluate`. Numbers print in BASE with upper-case digits.
 """
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, PAD_OFFSET, signed
+from rcl.forth import state
 from rcl.forth.primitives import prim
 from rcl.words.compiling import compile_only
 from rcl.words.core import pop2
@@ -245,11 +246,15 @@ def quoted(m):
     return m.memory.text(a, n)
 
 
+# Which of the four rotating S" buffers was used last: the session's.
+state.session("sbuf", lambda m: 0)
+
+
 def transient(m, text):
     """Place text in one of the rotating S" buffers; -> (addr, len)."""
     from rcl.forth.memory import STRING_BUFFERS
     data = text.encode("latin-1", "replace")[:255]
-    m.sbuf = (getattr(m, "sbuf", 0) + 1) % 4
+    m.sbuf = (m.sbuf + 1) % 4
     a = STRING_BUFFERS + 256 * m.sbuf
     m.memory.write(a, bytes([len(data)]) + data)
     return a + 1, len(data)

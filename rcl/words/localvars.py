@@ -212,7 +212,7 @@ class LocalScope:
 
 def scope(m):
     """The current definition's scope, made on first use."""
-    if getattr(m, "locals", None) is None:
+    if m.locals is None:
         m.locals = LocalScope()
     return m.locals
 

@@ -172,8 +172,8 @@ def align(m):
 
 @prim("UNUSED", "( -- u ) bytes left in the dictionary")
 def unused(m):
-    from rcl.forth.memory import DICT_LIMIT, PAD_OFFSET
-    limit = getattr(m, "heap_floor", DICT_LIMIT)      # the heap's floor, if any
+    from rcl.forth.memory import PAD_OFFSET
+    limit = m.heap_floor      # the heap's floor (DICT_LIMIT when empty)
     m.s.append(max(0, limit - PAD_OFFSET - m.dictionary.here))
 
 

@@ -18,6 +18,12 @@ Python's, at no virtual-time cost, and nothing added to MS or the tick.
 Layer 9's `IDLE-CELLS` is such a table of the addresses IDLE? reads:
 MOVING, ARM-BITS, CONTROL's xt and STOCK-CONTROL, laid down by the screen
 at load time (`MOVING , ARM-BITS , ...`).
+
+The tick script: INIT-COUNTERS (INSTALL's on a board not yet set up) and
+every check that the tick runs tell the board what RCL's handler reads
+first, ?CNT1's and ?CNT2's latches and reads (board.tick_reads: a board
+over a link does them at the tick and sends the bytes with it). So the
+script, its ports and its order live here, beside the words that read.
 """
 import struct
 
@@ -26,6 +32,8 @@ from rcl.errors import ForthError
 from rcl.forth.memory import MASK
 from rcl.forth.inner import DOCOL
 from rcl.forth.primitives import prim
+from rcl.i80188 import (EN, INT, PCB_BASE, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK,
+                        VECTOR_USER_TICK, vector_address)
 
 BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
 CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 80188
@@ -60,6 +68,7 @@ def state_addr(m):
       hidden=True, cost=CODE_COST)
 def init_counters(m):
     b = m.board
+    tell_tick_reads(m)
     for base in BASES:
         for control, counter in ((0x36, 0), (0x74, 1), (0xB4, 2)):
             b.out8(base + 3, control)
@@ -72,6 +81,15 @@ COUNTER_READS = tuple(((OUT8, base + 3, 0x40), (OUT8, base + 3, 0x80),   # latch
                        (IN8, base + 1, 0), (IN8, base + 1, 0),         # counter 1 LSB MSB
                        (IN8, base + 2, 0), (IN8, base + 2, 0))         # counter 2 LSB MSB
                       for base in BASES)
+TICK_READS = COUNTER_READS[0] + COUNTER_READS[1]
+
+
+def tell_tick_reads(m):
+    """The board learns what RCL's tick handler reads first (a board that
+    runs the handler itself ignores it; a link sends it once a session)."""
+    m.board.tick_reads(TICK_READS)
+
+
 STATE = struct.Struct("<HHHHHH")    # prev fwd, prev rev, fwd total hi lo, rev total hi lo
 
 
@@ -116,9 +134,9 @@ def q_cnt2(m):
 
 
 # ------------------------------------------------------------ the tick
-PCB_T0_CONTROL, PCB_TIMER_MASK = 0xFF56, 0xFF32
-T0_EN, T0_INT, TIMER_MSK = 0x8000, 0x2000, 0x0008
-USER_TICK_VECTOR = 4 * 0x1C                     # INT 1Ch in segment 0
+PCB_T0_CONTROL = PCB_BASE + T0_CONTROL
+PCB_TIMER_MASK = PCB_BASE + TIMER_CONTROL_REG
+USER_TICK_VECTOR = vector_address(VECTOR_USER_TICK)     # INT 1Ch in segment 0
 
 
 def user_tick(m):
@@ -132,8 +150,9 @@ def check_ticking(m):
     """Abort unless timer 0 runs and interrupts, unmasked, and INT 1Ch is a
     Forth word: unless something can run every tick."""
     b = m.board
+    tell_tick_reads(m)
     control, mask = b.in16(PCB_T0_CONTROL), b.in16(PCB_TIMER_MASK)
-    if (control & (T0_EN | T0_INT)) != T0_EN | T0_INT or mask & TIMER_MSK \
+    if (control & (EN | INT)) != EN | INT or mask & TIMER_MASK \
             or user_tick(m)[0] != FORTH_CS:
         raise ForthError(-2, "Control loop not running (INSTALL starts it)")
 
@@ -163,12 +182,16 @@ def paren_ms(m):
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
     n = 1 + 37 * m.s.pop()
     check_ticking(m)
+    ff = m.fast_forward
+    if ff is None:                    # no shortcut: the loop's own time, tick by tick
+        m.spend(n)
+        return
     c, board = m.cost[DOCOL], m.board
-    board.wait_started()
+    ff.wait_started()
     while n > 0:
         if quiet(m):
             ticks_before = board.ticks
-            left = board.repeat_idle_ticks(n, c)
+            left = ff.repeat_idle_ticks(n, c)
             if left == 0:
                 return
             if board.ticks != ticks_before:
@@ -186,4 +209,5 @@ def paren_ms(m):
       "INT 1Ch idle (only when nothing moves)", hidden=True, kind="call")
 def skip_to_tick(m):
     hi, lo = m.s.pop(), m.s.pop()
-    m.board.skip_to_tick((hi << 16) | lo)
+    if m.fast_forward is not None:    # else the waiting loop waits tick by tick
+        m.fast_forward.skip_to_tick((hi << 16) | lo)

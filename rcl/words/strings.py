@@ -10,6 +10,7 @@ Substitution: `%name%` in a text becomes what `REPLACES` gave for name
 by the machine, not in the image, so they survive FORGET.
 """
 from rcl.forth.memory import MASK, signed
+from rcl.forth import state
 from rcl.forth.primitives import prim
 from rcl.words.compiling import compile_only
 from rcl.words.io import lay_string
@@ -18,10 +19,14 @@ SUBSTITUTE_OVERFLOW = -78       # result did not fit: Forth 2012 leaves n < 0
 
 
 def replacements(m):
-    r = getattr(m, "replacements", None)
-    if r is None:
-        r = m.replacements = {}
-    return r
+    return m.replacements
+
+
+# REPLACES' table is the system's (as its definitions are): names and texts as bytes.
+state.system("replacements", lambda m: {},
+             lambda m: {k.decode("latin-1"): v.decode("latin-1") for k, v in m.replacements.items()},
+             lambda m, d: setattr(m, "replacements", {k.encode("latin-1"): v.encode("latin-1")
+                                                      for k, v in d.items()}))
 
 
 def sliteral(m):

@@ -16,6 +16,7 @@ two stacks, counts in #ERRORS, and the session goes on.
 from dataclasses import dataclass, field
 
 from rcl.forth.memory import MASK, signed
+from rcl.forth import state as forth_state
 from rcl.forth.primitives import prim
 from rcl.words.io import in_base
 
@@ -49,11 +50,12 @@ class Tester:
         self.listener = None
 
 
+# T{ ... }T's depth and pending result: the session's.
+forth_state.session("tester", lambda m: Tester())
+
+
 def state_of(m):
-    state = getattr(m, "tester", None)
-    if state is None:
-        state = m.tester = Tester()
-    return state
+    return m.tester
 
 
 def where(m):

@@ -13,13 +13,18 @@ it keeps, so the same words serve any board that keeps a trace.
 import csv
 
 from rcl.errors import ForthError
+from rcl.forth import state
 from rcl.forth.primitives import prim
 from rcl.safefile import write_atomically
 from rcl.words.compiling import parse_word
 
 
+# The trace being recorded, if any: the session's.
+state.session("tracer", lambda m: None)
+
+
 def tracer(m):
-    return getattr(m, "tracer", None)
+    return m.tracer
 
 
 def start_trace(m, file=None):
