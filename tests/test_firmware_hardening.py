@@ -100,10 +100,13 @@ def raw(board):
 
 
 def hello(link):
-    link.frame(0, "HELLO", version=1)
-    ident = link.receive("IDENTIFY")
-    assert ident is not None
-    return ident
+    """HELLO until IDENTIFY (a host gives a board that is starting 3 s)."""
+    for _ in range(3):
+        link.frame(0, "HELLO", version=1)
+        ident = link.receive("IDENTIFY", seconds=1.0)
+        if ident is not None:
+            return ident
+    pytest.fail("no IDENTIFY")
 
 
 def motor_notes(link, value):
@@ -251,12 +254,12 @@ LAG_WATCH = [
 
 
 def test_a_300_foot_move_keeps_its_lag_from_start_to_end(board):
-    # 102,272 counts at 5 MPH (41 s of board time, at 4 times real time):
+    # 102,272 counts at 5 MPH (41 s of board time, at twice real time):
     # the lag at the end of the cruise is its lag at the start. The 10.000
     # ms tick the firmware had let the wheels gain 0.005 % on RCL's q, 5
     # counts over this move (measured: 7 to 12), and the 100-count
     # following limit after 2 million counts.
-    b = board("--rate", "4")
+    b = board("--rate", "2")
     m = connect(b.path)
     try:
         for line in LAG_WATCH:
@@ -294,7 +297,7 @@ def simavr(tmp_path):
         s.close()
 
 
-@pytest.mark.parametrize("interrupts", ["on", "off"])
+@pytest.mark.parametrize("interrupts", ["on", "off", "on, flooded"])
 def test_a_hung_main_loop_is_reset_by_the_watchdog_and_the_motor_pins_read_safe(simavr, interrupts):
     # The test image stops its main loop on OUT8 0x8F (firmware/Makefile,
     # uno-hang) with both wheels running: the 250 ms link watchdog runs in
@@ -311,15 +314,27 @@ def test_a_hung_main_loop_is_reset_by_the_watchdog_and_the_motor_pins_read_safe(
             assert link.answer(seq, "OUT8", port=port, value=value).name == "ACK"
             seq += 1
         assert sim.wait_for(lambda: all(d > 0 for d in sim.figures()["drive"]), 20)
-        link.frame(seq, "OUT8", port=0x8F, value=0 if interrupts == "on" else 1)
+        link.frame(seq, "OUT8", port=0x8F, value=0 if interrupts.startswith("on") else 1)
+        if interrupts == "on, flooded":
+            # 300 bytes of PINGs into the hung board (26 ms of the wire):
+            # they fill its 128-byte receive buffer, the rest are counted
+            # lost (or), and the count is kept through the reset
+            link.send(link.P.frame(0, "PING") * 50)
         assert sim.wait_for(lambda: sim.figures()["resets"] >= 1, 20)
         figures = sim.figures()
         stopped = figures["stopped_s"] - figures["last_host_frame_s"]
+        print("\nhung with interrupts %s: drive off %.6f s after the last host frame"
+              % (interrupts, stopped))
         assert figures["drive"] == [0.0, 0.0] and figures["aux_pins"] == 0
-        assert 0.055 <= stopped <= 0.080, stopped          # 64 ms, not the 250 of the link
+        if interrupts != "on, flooded":                    # (the PINGs are later frames)
+            assert 0.055 <= stopped <= 0.080, stopped      # 64 ms, not the 250 of the link
         # the board is at power-on, and says it was reset by its watchdog
         ident = hello(link)
-        assert ident["name"].endswith(" wd=1")
+        errors = dict(f.split("=") for f in ident["name"].split() if "=" in f)
+        print("IDENTIFY after the reset: %s" % ident["name"])
+        assert errors["wd"] == "1" and errors["fe"] == "0"
+        if interrupts == "on, flooded":
+            assert 150 <= int(errors["or"]) <= 300 - 127
         assert link.answer(1, "IN8", port=0x8A).name == "VALUE"
         assert sim.figures()["drive"] == [0.0, 0.0]
     finally:

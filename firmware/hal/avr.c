@@ -39,12 +39,12 @@ static volatile uint8_t ms_new, ticks_new;
 static volatile uint32_t edges[2];         /* mod 2^32: no overflow after 50 hours */
 static volatile uint8_t enc_last;
 static volatile uint16_t compares, compares_last;   /* Timer1 matches toward a tick, of last + 1 */
-static volatile uint16_t framing_errors, overruns;
-static uint16_t tx_lost;
 
-/* Kept through a reset (not power-on): the watchdog's reset count. */
-static struct {
+/* The error counts since power-on, kept through other resets (the
+ * watchdog's, the bootloader's when the port opens) */
+static volatile struct {
     uint16_t magic;
+    uint16_t framing, overrun, lost;
     uint8_t watchdog;
 } kept __attribute__((section(".noinit")));
 #define KEPT_MAGIC 0x5AC3
@@ -74,14 +74,14 @@ ISR(UART_RX_VECT)
     uint8_t b = UDR0, next = (uint8_t)((rx_head + 1) % RX_SIZE);
 
     if (status & (1u << FE0))
-        count(&framing_errors);
+        count(&kept.framing);
     if (status & (1u << DOR0))
-        count(&overruns);           /* bytes lost before this one */
+        count(&kept.overrun);       /* bytes lost before this one */
     if (next != rx_tail) {
         rx_buf[rx_head] = b;
         rx_head = next;
     } else {
-        count(&overruns);           /* the ring is full: this byte is lost */
+        count(&kept.overrun);       /* the ring is full: this byte is lost */
     }
 }
 
@@ -120,8 +120,7 @@ void hal_putc(uint8_t byte)
         waited += (uint8_t)(now >= last ? now - last : now + 250 - last);
         last = now;
         if (waited >= TX_WAIT_STEPS) {
-            if (tx_lost < COUNT_MAX)
-                tx_lost++;
+            count(&kept.lost);
             return;
         }
     }
@@ -429,6 +428,7 @@ void early_init(void)
     SET(BEEP_DDR, BEEP_BIT);
     if (kept.magic != KEPT_MAGIC || (cause & ((1u << PORF) | (1u << BORF)))) {
         kept.magic = KEPT_MAGIC;
+        kept.framing = kept.overrun = kept.lost = 0;
         kept.watchdog = 0;
     }
     if ((cause & (1u << WDRF)) && kept.watchdog < 255)
@@ -443,10 +443,10 @@ void hal_feed_watchdog(void)
 void hal_errors_get(hal_errors *e)
 {
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        e->framing = framing_errors;
-        e->overrun = overruns;
+        e->framing = kept.framing;
+        e->overrun = kept.overrun;
     }
-    e->lost = tx_lost;
+    e->lost = kept.lost;
     e->watchdog = kept.watchdog;
 }
 
