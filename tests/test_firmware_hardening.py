@@ -156,6 +156,22 @@ def test_the_native_tick_is_10_0005_ms_not_10(raw):
     assert exact == 60 and ten_ms < 60
 
 
+def test_a_period_shorter_than_2_5_ms_ticks_every_2_5_ms(raw):
+    # max count 1 through timer 2's 3: 1.5 us, which no board serves; the
+    # firmware's floor (config.h TICK_MIN_HALF_US), exactly
+    link = raw("--rate", "5")
+    hello(link)
+    assert link.answer(1, "RUN", ops=[(0, 0xFF52, 1), (0, 0xFF53, 0), (0, 0x88, 0x01)]).name \
+        == "RESULTS"
+    link.board.wait_for(lambda: False, 1.0)
+    assert link.answer(2, "OUT8", port=0x88, value=0x05).name == "ACK"
+    assert link.board.wait_for(lambda: motor_notes(link, 0x01) and motor_notes(link, 0x05))
+    start, end = motor_notes(link, 0x01)[0], motor_notes(link, 0x05)[0]
+    steps = (end["us"] - start["us"]) // 1000
+    assert steps > 100
+    assert end["tick"] - start["tick"] == native_ticks(5_000, steps)
+
+
 def test_a_hello_without_its_version_byte_neither_answers_nor_restarts_the_session(raw):
     link = raw("--rate", "1")
     hello(link)
@@ -205,9 +221,8 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
     link = raw("--rate", "10")
     hello(link)
     seq = 1
-    for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):          # INT 1Ch -> 1000:2A10
-        assert link.answer(seq, "FAR_STORE", seg=0, off=0x70 + off,
-                           value=(0x2A10 | 0x1000 << 16) >> 8 * off & 0xFF).name == "ACK"
+    for value in (0x10, 0x2A, 0x00, 0x10):                          # INT 1Ch -> 1000:2A10
+        assert link.answer(seq, "FAR_STORE", seg=0, off=0x70 + seq - 1, value=value).name == "ACK"
         seq += 1
     assert link.answer(seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
     assert link.answer(seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
@@ -295,6 +310,34 @@ def simavr(tmp_path):
     yield start
     for s in started:
         s.close()
+
+
+def test_a_one_second_tick_on_the_uno_image_is_one_second(simavr):
+    # 20000 counts through timer 2's 100: 2,000,000 half-us. Timer1 cut
+    # every period to 262 ms before; now it matches every 20,000 steps and
+    # counts 100 matches.
+    from test_firmware_simavr import uno_image
+    sim = simavr(uno_image())
+    link = RawLink(sim.path)
+    try:
+        hello(link)
+        assert link.answer(1, "OUT16", port=0xFF62, value=100).name == "ACK"
+        assert link.answer(2, "OUT16", port=0xFF52, value=20000).name == "ACK"
+        for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):      # INT 1Ch -> 1000:2A10
+            assert link.answer(3 + off, "FAR_STORE", seg=0, off=0x70 + off, value=value).name \
+                == "ACK"
+        ticks = []
+        while len(ticks) < 4:
+            f = link.receive("TICK", seconds=5)
+            assert f is not None
+            ticks.append(f["tick"])
+        period = sim.figures()["tick_period_us"]
+    finally:
+        link.close()
+    assert ticks == list(range(ticks[0], ticks[0] + 4))
+    # the last 3 periods as the harness saw the TICK frames on the wire
+    # (each may wait behind a frame already sent: 6 ms)
+    assert 1_000_000 - 6000 <= period["min"] <= period["max"] <= 1_000_000 + 6000
 
 
 @pytest.mark.parametrize("interrupts", ["on", "off", "on, flooded"])
