@@ -30,7 +30,7 @@
 #define ERR_MAX (256L << 16)                /* 64 counts */
 /* Bounds of a step's terms, 8192 edges each (2^29 << 16): the sum with
  * the error stays under 2^31. The error is clamped to +-ERR_MAX after
- * the step, so a larger advance (N under 8 for over 64 ms) ends the
+ * the step, so a larger advance (a step over 16 x N ms late) ends the
  * same way, unless the wheel also moved over 8192 edges in that step
  * (32,000 edges/s: no motor here) */
 #define INC_MAX (1L << 29)
