@@ -3,11 +3,15 @@
  *   UART0   the link: 115200 8N1 (U2X, UBRR 16: 2.1 % fast, within a
  *           UART's tolerance), interrupt-driven receive and send rings
  *   Timer0  fast PWM for both wheels' enables (976 Hz)
- *   Timer1  CTC: timer 0 of the 80188, the tick (10 ms for RCL)
+ *   Timer1  CTC in 0.5 us steps: timer 0 of the 80188, the tick (RCL's
+ *           10.0005 ms exactly)
  *   Timer2  CTC 1 kHz: the speed loop's period and the board's clock
- *   PCINT   the quadrature encoders, decoded in the interrupt */
+ *   PCINT   the quadrature encoders, decoded in the interrupt
+ *   WDT     resets the board when the main loop stops for 64 ms; the
+ *           first code after any reset drives the motor pins safe */
 #include "../src/config.h"
 #include "../src/hal.h"
+#include "../src/pcb.h"
 
 #ifdef BOARD_MEGA
 #include "pins_mega.h"
@@ -18,23 +22,36 @@
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <avr/sleep.h>
+#include <avr/wdt.h>
 #include <util/atomic.h>
 
 #define SET(port, bit) ((port) |= (uint8_t)(1u << (bit)))
 #define CLR(port, bit) ((port) &= (uint8_t) ~(1u << (bit)))
 #define RX_SIZE 128                 /* a RUN frame is 70 bytes */
 #define TX_SIZE 64                  /* a TICK and an answer; more waits */
+#define TX_WAIT_STEPS 250           /* putc's bound: 1 ms of Timer2's 4 us steps (11 bytes' time) */
+#define COUNT_MAX 0xFFFFu
 
 static volatile uint8_t rx_buf[RX_SIZE], tx_buf[TX_SIZE];
 static volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
 static volatile uint16_t ms_count;
 static volatile uint8_t ms_new, ticks_new;
-static volatile int32_t edges[2];
+static volatile uint32_t edges[2];         /* mod 2^32: no overflow after 50 hours */
 static volatile uint8_t enc_last;
+static volatile uint16_t compares, compares_last;   /* Timer1 matches toward a tick, of last + 1 */
+
+/* The error counts since power-on, kept through other resets (the
+ * watchdog's, the bootloader's when the port opens) */
+static volatile struct {
+    uint16_t magic;
+    uint16_t framing, overrun, lost;
+    uint8_t watchdog;
+} kept __attribute__((section(".noinit")));
+#define KEPT_MAGIC 0x5AC3
 
 const char *hal_name(void)
 {
-    return "rcl-firmware " FIRMWARE_VERSION_STRING " (R-E Robot I/O on Arduino " BOARD_NAME ")";
+    return "rcl-firmware " FIRMWARE_VERSION_STRING " (" BOARD_NAME ")";
 }
 
 void hal_args(int argc, char **argv)
@@ -45,13 +62,26 @@ void hal_args(int argc, char **argv)
 
 /* ------------------------------------------------------------ UART */
 
+static void count(volatile uint16_t *n)
+{
+    if (*n < COUNT_MAX)
+        (*n)++;
+}
+
 ISR(UART_RX_VECT)
 {
+    uint8_t status = UCSR0A;        /* its error flags belong to the byte in UDR0 */
     uint8_t b = UDR0, next = (uint8_t)((rx_head + 1) % RX_SIZE);
 
-    if (next != rx_tail) {          /* full: the byte is lost, as on a line */
+    if (status & (1u << FE0))
+        count(&kept.framing);
+    if (status & (1u << DOR0))
+        count(&kept.overrun);       /* bytes lost before this one */
+    if (next != rx_tail) {
         rx_buf[rx_head] = b;
         rx_head = next;
+    } else {
+        count(&kept.overrun);       /* the ring is full: this byte is lost */
     }
 }
 
@@ -78,10 +108,22 @@ int hal_getc(void)
 
 void hal_putc(uint8_t byte)
 {
+    /* the line drains a byte every 87 us: a ring still full after 1 ms
+     * (Timer2's steps, which count with interrupts off too) is a line
+     * that does not drain, and the byte is lost rather than the loop */
     uint8_t next = (uint8_t)((tx_head + 1) % TX_SIZE);
+    uint8_t last = TCNT2;
+    uint16_t waited = 0;
 
-    while (next == tx_tail)
-        ;                           /* the line drains at 11.5 bytes/ms */
+    while (next == tx_tail) {
+        uint8_t now = TCNT2;
+        waited += (uint8_t)(now >= last ? now - last : now + 250 - last);
+        last = now;
+        if (waited >= TX_WAIT_STEPS) {
+            count(&kept.lost);
+            return;
+        }
+    }
     tx_buf[tx_head] = byte;
     tx_head = next;
     SET(UCSR0B, UDRIE0);
@@ -106,6 +148,11 @@ ISR(TIMER2_COMPA_vect)
 
 ISR(TIMER1_COMPA_vect)
 {
+    if (compares != compares_last) {
+        compares++;
+        return;
+    }
+    compares = 0;
     if (ticks_new < 255)
         ticks_new++;
 }
@@ -161,26 +208,28 @@ uint8_t hal_take_ticks(void)
     return take(&ticks_new);
 }
 
-void hal_tick_period(uint32_t us)
+void hal_tick_period(uint32_t count, uint32_t prescale)
 {
-    /* 0.5 us steps up to 32.7 ms (RCL's 10 ms exactly: OCR1A 19999),
-     * 4 us steps beyond (the power-on BIOS's 54.9 ms) */
+    /* count x prescale half-us exactly: Timer1 at 0.5 us steps matches
+     * every `step` of them, and every `every`-th match is a tick (RCL's
+     * 6667 x 3: a match every 20001 steps, 10.0005 ms) */
+    pcb_period t = { count, prescale };
+    uint32_t step, every;
+
     TCCR1B = 0;
-    TCNT1 = 0;
+    TIMSK1 = 0;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
         ticks_new = 0;
+        compares = 0;
     }
-    if (us == 0)
+    if (count == 0)
         return;
+    pcb_period_split(t, &step, &every);
+    compares_last = (uint16_t)(every - 1);
     /* the mode and clock first, then the compare value: simavr (like
      * the data sheet's examples) takes OCR1A in the mode it is written in */
-    if (us <= 32768UL) {
-        TCCR1B = (uint8_t)((1u << WGM12) | (1u << CS11));              /* /8 */
-        OCR1A = (uint16_t)(2 * us - 1);
-    } else {
-        TCCR1B = (uint8_t)((1u << WGM12) | (1u << CS11) | (1u << CS10)); /* /64 */
-        OCR1A = (uint16_t)((us > 262144UL ? 262144UL : us) / 4 - 1);
-    }
+    TCCR1B = (uint8_t)((1u << WGM12) | (1u << CS11));      /* /8: 0.5 us */
+    OCR1A = (uint16_t)(step - 1);
     TCNT1 = 0;
     TIFR1 = (uint8_t)(1u << OCF1A);
     TIMSK1 = (uint8_t)(1u << OCIE1A);
@@ -210,9 +259,9 @@ ISR(SENSE_VECT)
     enc_last = now;
 }
 
-int32_t hal_encoder(uint8_t wheel)
+uint32_t hal_encoder(uint8_t wheel)
 {
-    int32_t e;
+    uint32_t e;
 
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
         e = edges[wheel & 1];
@@ -344,6 +393,75 @@ void hal_idle(void)
     sei();
 }
 
+/* ---------------------------------------------------------- watchdog */
+
+/* The first code after any reset (before RAM is set up): the watchdog,
+ * which stays on at 16 ms after it has reset the board, off; the motor
+ * and AUX outputs driven low (the L298N's enables off: coasting), so
+ * that nothing the last run left drives a motor; the reset counted. A
+ * bootloader may have cleared MCUSR first (the Uno's stock optiboot
+ * does): then a watchdog reset reads as any other. */
+void early_init(void) __attribute__((naked, used, section(".init3")));
+void early_init(void)
+{
+    uint8_t cause = MCUSR;
+
+    MCUSR = 0;
+    wdt_disable();
+    CLR(L_PWM_PORT, L_PWM_BIT);
+    CLR(R_PWM_PORT, R_PWM_BIT);
+    CLR(L_IN1_PORT, L_IN1_BIT);
+    CLR(L_IN2_PORT, L_IN2_BIT);
+    CLR(R_IN1_PORT, R_IN1_BIT);
+    CLR(R_IN2_PORT, R_IN2_BIT);
+    CLR(AUX_PORT_REG, ARM_BIT);
+    CLR(AUX_PORT_REG, GRIP_BIT);
+    CLR(BEEP_PORT, BEEP_BIT);
+    SET(L_PWM_DDR, L_PWM_BIT);
+    SET(R_PWM_DDR, R_PWM_BIT);
+    SET(L_IN1_DDR, L_IN1_BIT);
+    SET(L_IN2_DDR, L_IN2_BIT);
+    SET(R_IN1_DDR, R_IN1_BIT);
+    SET(R_IN2_DDR, R_IN2_BIT);
+    SET(AUX_DDR, ARM_BIT);
+    SET(AUX_DDR, GRIP_BIT);
+    SET(BEEP_DDR, BEEP_BIT);
+    if (kept.magic != KEPT_MAGIC || (cause & ((1u << PORF) | (1u << BORF)))) {
+        kept.magic = KEPT_MAGIC;
+        kept.framing = kept.overrun = kept.lost = 0;
+        kept.watchdog = 0;
+    }
+    if ((cause & (1u << WDRF)) && kept.watchdog < 255)
+        kept.watchdog++;
+}
+
+void hal_feed_watchdog(void)
+{
+    wdt_reset();
+}
+
+void hal_errors_get(hal_errors *e)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        e->framing = kept.framing;
+        e->overrun = kept.overrun;
+    }
+    e->lost = kept.lost;
+    e->watchdog = kept.watchdog;
+}
+
+#ifdef TEST_HANG_PORT
+/* A test image only (make uno-hang): the main loop stops here, with
+ * interrupts on (value 0) or off, for the watchdog to end. */
+void hal_test_hang(uint8_t value)
+{
+    if (value)
+        cli();
+    for (;;)
+        ;
+}
+#endif
+
 void hal_init(void)
 {
     SET(AUX_DDR, ARM_BIT);
@@ -357,5 +475,8 @@ void hal_init(void)
     sense_init();
     clocks_init();
     uart_init();
+    /* system reset mode, not interrupt first: it resets with interrupts
+     * off too, on the chip and under simavr alike */
+    wdt_enable(WDTO_60MS);
     sei();
 }

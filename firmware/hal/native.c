@@ -1,7 +1,7 @@
 /* The native Linux board: the core behind a pseudo-terminal, with the
  * motor model of model/motor.c in place of the pins.
  *
- *   rcl-firmware-native [--rate R]
+ *   rcl-firmware-native [--rate R] [--edges-from E]
  *
  * prints the pty's path as the first line of stdout, then a line per
  * event (hello, motor latch, safe state, watchdog) with the board time
@@ -16,7 +16,11 @@
  * and the board runs free as firmware on a microcontroller does; a host
  * stalled by a busy machine finds the board where it left it, its
  * watchdog (board time) not tripped by the wait. HEARTBEATs keep to the
- * wall clock, as the host's silence rule does. */
+ * wall clock, as the host's silence rule does. --edges-from E starts both
+ * encoders' edge counters at E (mod 2^32) instead of 0, as a board that
+ * has run for days has them. The tick timer keeps timer 0's period in
+ * half-us exactly: a tick falls in the 1 ms step its time falls in, and
+ * the ticks' mean period is the 80188's (RCL's 10.0005 ms), never 10. */
 #define _GNU_SOURCE                 /* ppoll */
 #include "../src/hal.h"
 #include "../model/motor.h"
@@ -43,7 +47,9 @@ static struct {
     double owed_us;                 /* board time due but not yet stepped */
     uint32_t now_us;                /* board time */
     uint8_t ms, ticks;              /* steps and tick expiries not yet taken */
-    uint32_t period_us, tick_left_us;
+    uint64_t period_half, tick_left_half;   /* the tick timer, in half-us */
+    uint32_t edges_from;
+    uint16_t lost;                  /* bytes dropped: the line's buffer full */
     uint32_t tick_total;
     int waiting;                    /* a TICK sent, its final TICK_DONE not come */
     int host_gone;                  /* a wait ran out, or the watchdog tripped */
@@ -58,7 +64,7 @@ static struct {
 
 const char *hal_name(void)
 {
-    return "rcl-firmware " FIRMWARE_VERSION_STRING " (R-E Robot I/O; native, motor model)";
+    return "rcl-firmware " FIRMWARE_VERSION_STRING " (native)";
 }
 
 void hal_args(int argc, char **argv)
@@ -68,8 +74,10 @@ void hal_args(int argc, char **argv)
             n.rate = atof(argv[++i]);
             if (n.rate <= 0.0)
                 n.rate = 1.0;
+        } else if (!strcmp(argv[i], "--edges-from") && i + 1 < argc) {
+            n.edges_from = (uint32_t)strtoul(argv[++i], NULL, 0);
         } else {
-            fprintf(stderr, "usage: %s [--rate R]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--rate R] [--edges-from E]\n", argv[0]);
             exit(2);
         }
     }
@@ -124,7 +132,7 @@ void hal_init(void)
  * last one: wait for it (a bounded time). */
 static int held(double wall)
 {
-    if (!n.waiting || !n.period_us || n.tick_left_us > STEP_US)
+    if (!n.waiting || !n.period_half || n.tick_left_half > 2 * STEP_US)
         return 0;
     if (wall - n.waiting_since > HOLD_MAX_US) {
         n.waiting = 0;              /* the host has gone: run free until it answers */
@@ -137,7 +145,7 @@ static int held(double wall)
 
 uint8_t hal_holding(void)
 {
-    return (uint8_t)(n.waiting && n.period_us && n.tick_left_us <= STEP_US);
+    return (uint8_t)(n.waiting && n.period_half && n.tick_left_half <= 2 * STEP_US);
 }
 
 static void step(void)
@@ -147,13 +155,13 @@ static void step(void)
     n.now_us += STEP_US;
     if (n.ms < 255)
         n.ms++;
-    if (n.period_us) {
-        if (n.tick_left_us <= STEP_US) {
-            n.tick_left_us += n.period_us;
+    if (n.period_half) {
+        if (n.tick_left_half <= 2 * STEP_US) {     /* due within this step */
+            n.tick_left_half += n.period_half;
             n.ticks++;
             n.tick_total++;
         }
-        n.tick_left_us -= STEP_US;
+        n.tick_left_half -= 2 * STEP_US;
     }
 }
 
@@ -203,13 +211,14 @@ uint8_t hal_take_ticks(void)
     return t;
 }
 
-void hal_tick_period(uint32_t us)
+void hal_tick_period(uint32_t count, uint32_t prescale)
 {
-    /* rounded to the step: the core's 10 ms tick is exactly 10 steps */
-    n.period_us = us ? (us + STEP_US / 2) / STEP_US * STEP_US : 0;
-    if (n.period_us == 0 && us)
-        n.period_us = STEP_US;
-    n.tick_left_us = n.period_us;
+    /* a period under a step ticks at most once a step (the core never
+     * asks for one: TICK_MIN_HALF_US) */
+    n.period_half = (uint64_t)count * prescale;
+    if (n.period_half && n.period_half < 2 * STEP_US)
+        n.period_half = 2 * STEP_US;
+    n.tick_left_half = n.period_half;
     n.ticks = 0;
 }
 
@@ -264,11 +273,26 @@ int hal_getc(void)
 
 void hal_putc(uint8_t byte)
 {
-    /* a line with nobody reading drops what does not fit, as a UART would */
+    /* a line with nobody reading drops what does not fit, as a UART
+     * would, and counts it: the board never waits for a reader */
     if (n.out_n == sizeof n.out)
         flush_out();
     if (n.out_n < sizeof n.out)
         n.out[n.out_n++] = byte;
+    else if (n.lost < 0xFFFF)
+        n.lost++;
+}
+
+void hal_errors_get(hal_errors *e)
+{
+    /* a pty has no framing or overruns, nor this board a watchdog */
+    e->framing = e->overrun = 0;
+    e->lost = n.lost;
+    e->watchdog = 0;
+}
+
+void hal_feed_watchdog(void)
+{
 }
 
 /* --------------------------------------------------------- the robot */
@@ -279,9 +303,9 @@ void hal_wheel(uint8_t wheel, int16_t duty, uint8_t brake)
     n.drive[wheel & 1] = duty / 255.0;
 }
 
-int32_t hal_encoder(uint8_t wheel)
+uint32_t hal_encoder(uint8_t wheel)
 {
-    return (int32_t)n.wheel[wheel & 1].edges;
+    return n.edges_from + (uint32_t)n.wheel[wheel & 1].edges;
 }
 
 void hal_aux(uint8_t aux)

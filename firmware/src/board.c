@@ -19,7 +19,7 @@ static struct {
     i8253 chip[2];
     pcb pcb;
     uint8_t motor, aux;
-    int32_t seen_edges[2];          /* encoder edges already counted */
+    uint32_t seen_edges[2];         /* encoder edges already counted, mod 2^32 */
     int32_t part[2];                /* edges toward the next whole count, x DEN */
     speed_loop loop[2];
     uint8_t script[SCRIPT_MAX * 4];
@@ -39,8 +39,8 @@ static void count_encoder(uint8_t w)
     /* whole encoder counts go to counter 1 (forward) or 2 (reverse), as
      * the R-E Robot's direction decoder steers them; edges are weighed
      * EDGES_PER_COUNT_DEN each and a count is EDGES_PER_COUNT_NUM */
-    int32_t now = hal_encoder(w);
-    int32_t d = now - b.seen_edges[w];
+    uint32_t now = hal_encoder(w);
+    int32_t d = edges_between(now, b.seen_edges[w]);
     i8253 *chip = &b.chip[w];
     int32_t whole;
 
@@ -99,6 +99,20 @@ static uint8_t status_byte(void)
 
 /* ------------------------------------------------------------- ports */
 
+static void restart_tick(void)
+{
+    /* timer 0's period to the tick timer, exactly; one shorter than the
+     * board can serve runs at the shortest it can (config.h) */
+    pcb_period t = pcb_tick_period(&b.pcb);
+
+    if (t.count && t.prescale < TICK_MIN_HALF_US && t.count * t.prescale < TICK_MIN_HALF_US) {
+        t.count = TICK_MIN_HALF_US;
+        t.prescale = 1;
+    }
+    b.pcb.last_expiry_us = hal_micros();         /* a new period starts now */
+    hal_tick_period(t.count, t.prescale);
+}
+
 void board_out8(uint16_t port, uint8_t value)
 {
     if (port >= LEFT_8253 && port < LEFT_8253 + 8) {
@@ -112,8 +126,12 @@ void board_out8(uint16_t port, uint8_t value)
     } else if (port == AUX_PORT) {
         b.aux = value;
         hal_aux(value);
+#ifdef TEST_HANG_PORT
+    } else if (port == TEST_HANG_PORT) {
+        hal_test_hang(value);
+#endif
     } else if (port >= 0xFF00) {
-        uint16_t old = pcb_read(&b.pcb, (uint8_t)(port & 0xFE));
+        uint16_t old = pcb_read(&b.pcb, (uint8_t)(port & 0xFE), hal_micros());
         uint16_t word = (port & 1) ? (uint16_t)((old & 0xFF) | (uint16_t)value << 8)
                                    : (uint16_t)((old & 0xFF00) | value);
         board_out16(port & 0xFFFE, word);
@@ -129,7 +147,7 @@ uint8_t board_in8(uint16_t port)
     if (port == STATUS_PORT)
         return status_byte();
     if (port >= 0xFF00) {
-        uint16_t word = pcb_read(&b.pcb, (uint8_t)(port & 0xFE));
+        uint16_t word = pcb_read(&b.pcb, (uint8_t)(port & 0xFE), hal_micros());
         return (port & 1) ? (uint8_t)(word >> 8) : (uint8_t)word;
     }
     return 0xFF;                    /* write-only latches and empty ports float */
@@ -142,16 +160,14 @@ void board_out16(uint16_t port, uint16_t value)
         board_out8((uint16_t)(port + 1), (uint8_t)(value >> 8));
         return;
     }
-    if (pcb_write(&b.pcb, (uint8_t)(port & 0xFE), value)) {
-        b.pcb.last_expiry_us = hal_micros();     /* a new period starts now */
-        hal_tick_period(pcb_tick_period_us(&b.pcb));
-    }
+    if (pcb_write(&b.pcb, (uint8_t)(port & 0xFE), value))
+        restart_tick();
 }
 
 uint16_t board_in16(uint16_t port)
 {
     if (port >= 0xFF00)
-        return pcb_read(&b.pcb, (uint8_t)(port & 0xFE));
+        return pcb_read(&b.pcb, (uint8_t)(port & 0xFE), hal_micros());
     return (uint16_t)(board_in8(port) | (uint16_t)board_in8((uint16_t)(port + 1)) << 8);
 }
 
@@ -351,6 +367,5 @@ void board_power_on(void)
         speed_init(&b.loop[w], b.seen_edges[w]);
     }
     board_safe();
-    b.pcb.last_expiry_us = hal_micros();
-    hal_tick_period(pcb_tick_period_us(&b.pcb));
+    restart_tick();
 }

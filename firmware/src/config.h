@@ -6,7 +6,7 @@
 #ifndef PROTOCOL_VERSION
 #define PROTOCOL_VERSION 1          /* a test build overrides it (make VERSION=2) */
 #endif
-#define FIRMWARE_VERSION_STRING "1.0"
+#define FIRMWARE_VERSION_STRING "1.1"
 
 #define SYNC 0xA5
 #define MAX_PAYLOAD 64
@@ -22,7 +22,11 @@
 #define HEARTBEAT_US 50000UL
 #define HOLD_HEARTBEAT_US 10000UL   /* native board waiting for the host (hal.h) */
 #define WATCHDOG_US 250000UL
-#define TICK_US 10000U              /* reported in IDENTIFY: RCL's rate */
+#define TICK_US 10000U              /* reported in IDENTIFY: RCL's rate, in whole us */
+/* The shortest tick the board serves, in half-us: the wire carries the
+ * longest TICK (26 bytes) in 2.3 ms at 115200 baud. A shorter period
+ * programmed into timer 0 runs at this one. */
+#define TICK_MIN_HALF_US 5000UL
 
 /* The emulated board (board-hardware.md, the R-E Robot's port map) */
 #define LEFT_8253 0x80

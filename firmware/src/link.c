@@ -104,21 +104,48 @@ void link_send_tick(uint16_t tick, uint16_t off, const uint8_t *results, uint8_t
     hal_note(NOTE_TICK_SENT, tick);
 }
 
+/* Append " key=value" to the name being built in p (up to MAX_PAYLOAD). */
+static uint8_t put_count(uint8_t *p, uint8_t n, const char *key, uint16_t v)
+{
+    char digits[5];
+    uint8_t d = 0;
+
+    do {
+        digits[d++] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    if (n + 2 + strlen(key) + d > MAX_PAYLOAD)
+        return n;
+    p[n++] = ' ';
+    while (*key)
+        p[n++] = (uint8_t)*key++;
+    p[n++] = '=';
+    while (d)
+        p[n++] = (uint8_t)digits[--d];
+    return n;
+}
+
 static void identify(void)
 {
+    /* the name, then the line's error counts since power-on and the
+     * hardware watchdog's resets (docs/firmware.md, "Errors") */
     uint8_t f[FRAME_MAX], p[MAX_PAYLOAD];
     const char *name = hal_name();
-    uint8_t n = 0;
+    hal_errors e;
+    uint8_t n = 4;
 
     p[0] = PROTOCOL_VERSION;
     p[1] = (uint8_t)TICK_US;
     p[2] = (uint8_t)(TICK_US >> 8);
     p[3] = 0;                       /* flags: not a lockstep board (section 4) */
-    while (name[n] && n < MAX_PAYLOAD - 4) {
-        p[4 + n] = (uint8_t)name[n];
-        n++;
-    }
-    put_frame(f, build(f, 0, IDENTIFY, p, (uint8_t)(4 + n)));
+    while (*name && n < MAX_PAYLOAD)
+        p[n++] = (uint8_t)*name++;
+    hal_errors_get(&e);
+    n = put_count(p, n, "fe", e.framing);
+    n = put_count(p, n, "or", e.overrun);
+    n = put_count(p, n, "tx", e.lost);
+    n = put_count(p, n, "wd", e.watchdog);
+    put_frame(f, build(f, 0, IDENTIFY, p, n));
 }
 
 static void heartbeat(void)
@@ -215,11 +242,18 @@ static void resend(uint8_t seq)
 /* A good frame (section 3's rules). */
 static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
 {
+    /* a board's frame is nobody's request: on a line that echoes, the
+     * board's own frames come back, and must neither use up the host's
+     * next SEQ nor feed the watchdog for a host that has gone */
+    if (type & 0x80)
+        return;
     k.last_valid_us = hal_link_micros();
     k.last_valid_board_us = hal_micros();
     k.watchdog_tripped = 0;
     if (type == HELLO) {
-        hal_note(NOTE_HELLO, len ? p[0] : 0);
+        if (len != 1)
+            return;                 /* version:B, or it is not a HELLO */
+        hal_note(NOTE_HELLO, p[0]);
         hello();
         return;
     }
@@ -240,10 +274,6 @@ static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
     if (seq != k.expected)
         return;
     k.expected = (uint8_t)(k.expected % 255 + 1);
-    if (type & 0x80) {
-        refuse(seq, "not a host message");
-        return;
-    }
     if (!well_formed(type, len)) {
         refuse(seq, "bad payload");
         return;

@@ -23,6 +23,7 @@ int main(int argc, char **argv)
         }
         board_poll();
         link_poll();
+        hal_feed_watchdog();        /* a pass done: the loop is alive */
         if (!busy)
             hal_idle();
     }

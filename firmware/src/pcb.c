@@ -1,6 +1,5 @@
 /* The peripheral control block of pcb.h (board-hardware.md section 3). */
 #include "pcb.h"
-#include "hal.h"
 
 #define T_WRITABLE 0x203Fu          /* INT, MC, RTG, P, EXT, ALT, CONT */
 #define T2_PRESCALE 3               /* 2 MHz / 3: timer 0 counts 1.5 us */
@@ -25,27 +24,30 @@ static int8_t timer_of(uint8_t offset, uint8_t *field)
     return (int8_t)((offset - 0x50) >> 3);
 }
 
-static uint16_t count_now(const pcb *p)
+static uint16_t count_now(const pcb *p, uint32_t now_us)
 {
-    /* timer 0's count: its input clocks since its last expiry */
-    uint32_t period = pcb_tick_period_us(p);
-    uint32_t clocks = ((hal_micros() - p->last_expiry_us) % (period ? period : 1)) * 2;
+    /* timer 0's count: its input clocks since its last expiry, taken
+     * mod its max count; 2e / prescale clocks in e us, split so that no
+     * step overflows 32 bits (e reaches 2^32 - 1 between two reads) */
+    pcb_period t = pcb_tick_period(p);
+    uint32_t e = now_us - p->last_expiry_us;
+    uint32_t q, r;
 
-    if (period == 0)
+    if (t.count == 0)
         return p->t_count[0];
-    if (p->t_control[0] & T_P)
-        clocks /= p->t_max_a[2] ? p->t_max_a[2] : 65536UL;
-    return (uint16_t)clocks;
+    q = e / t.prescale % t.count;
+    r = e % t.prescale;
+    return (uint16_t)((2 * q + 2 * r / t.prescale) % t.count);
 }
 
-uint16_t pcb_read(pcb *p, uint8_t offset)
+uint16_t pcb_read(pcb *p, uint8_t offset, uint32_t now_us)
 {
     uint8_t field;
     int8_t t = timer_of(offset, &field);
 
     if (t >= 0) {
         if (field == 0)
-            return t == 0 ? count_now(p) : p->t_count[t];
+            return t == 0 ? count_now(p, now_us) : p->t_count[t];
         if (field == 1)
             return p->t_max_a[t];
         if (field == 2)
@@ -94,21 +96,31 @@ uint8_t pcb_write(pcb *p, uint8_t offset, uint16_t word)
     return 0;
 }
 
-uint32_t pcb_tick_period_us(const pcb *p)
+pcb_period pcb_tick_period(const pcb *p)
 {
-    uint32_t max = p->t_max_a[0] ? p->t_max_a[0] : 65536UL;
-    uint32_t half_us;
+    /* 2 MHz input: 1 half-us a clock, or timer 2's period with P; a max
+     * count of 0 is 65536 */
+    pcb_period t = { p->t_max_a[0] ? p->t_max_a[0] : 65536UL, 1 };
 
     if (!(p->t_control[0] & T_EN) || (p->t_control[0] & T_EXT))
-        return 0;
-    if (p->t_control[0] & T_P) {
+        t.count = 0;
+    else if (p->t_control[0] & T_P) {
         if (!(p->t_control[2] & T_EN))
-            return 0;
-        half_us = max * (p->t_max_a[2] ? p->t_max_a[2] : 65536UL);
-    } else {
-        half_us = max;
+            t.count = 0;
+        t.prescale = p->t_max_a[2] ? p->t_max_a[2] : 65536UL;
     }
-    return half_us / 2;             /* 2 MHz input: 0.5 us per count */
+    return t;
+}
+
+void pcb_period_split(pcb_period t, uint32_t *step, uint32_t *every)
+{
+    if (t.prescale <= 65536UL / t.count) {
+        *step = t.count * t.prescale;
+        *every = 1;
+    } else {
+        *step = t.count > t.prescale ? t.count : t.prescale;
+        *every = t.count > t.prescale ? t.prescale : t.count;
+    }
 }
 
 uint8_t pcb_masked(const pcb *p)

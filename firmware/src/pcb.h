@@ -24,11 +24,24 @@ typedef struct pcb {
     uint32_t last_expiry_us;        /* board time of the last expiry */
 } pcb;
 
+/* timer 0's period as the chip makes it: `count` clocks of `prescale`
+ * half-microseconds, each 1..65536 (kept apart: their product reaches
+ * 2^32, which 32 bits do not hold); count 0: timer 0 does not count */
+typedef struct pcb_period {
+    uint32_t count, prescale;
+} pcb_period;
+
 void pcb_power_on(pcb *p);
-uint16_t pcb_read(pcb *p, uint8_t offset);
+/* now_us: board time, for timer 0's running count */
+uint16_t pcb_read(pcb *p, uint8_t offset, uint32_t now_us);
 /* a word write; returns 1 when the tick period may have changed */
 uint8_t pcb_write(pcb *p, uint8_t offset, uint16_t word);
-uint32_t pcb_tick_period_us(const pcb *p);   /* 0: timer 0 does not count */
+pcb_period pcb_tick_period(const pcb *p);
+/* The period as a 16-bit timer makes it exactly: a match every `step`
+ * half-us (1..65536), a tick every `every`-th match (1..65536). One
+ * match a tick when the period fits 16 bits; else the larger factor is
+ * the step, so matches are at least 256 half-us apart. */
+void pcb_period_split(pcb_period t, uint32_t *step, uint32_t *every);
 uint8_t pcb_masked(const pcb *p);
 uint8_t pcb_interrupting(const pcb *p);      /* timer 0 enabled with INT */
 void pcb_stop_interrupts(pcb *p);            /* TICK_FAILED: INT off, INH set */

@@ -28,6 +28,13 @@
 #define KD_Q8 2048L                         /* 8 duty steps per edge per 4 ms */
 #endif
 #define ERR_MAX (256L << 16)                /* 64 counts */
+/* Bounds of a step's terms, 8192 edges each (2^29 << 16): the sum with
+ * the error stays under 2^31. The error is clamped to +-ERR_MAX after
+ * the step, so a larger advance (a step over 16 x N ms late) ends the
+ * same way, unless the wheel also moved over 8192 edges in that step
+ * (32,000 edges/s: no motor here) */
+#define INC_MAX (1L << 29)
+#define MOVED_MAX 8192L
 #define LOCK_EDGES 8                        /* 2 counts: the STATUS lock bit */
 
 static void forget(speed_loop *s)
@@ -39,7 +46,7 @@ static void forget(speed_loop *s)
     s->duty = 0;
 }
 
-void speed_init(speed_loop *s, int32_t edges)
+void speed_init(speed_loop *s, uint32_t edges)
 {
     forget(s);
     s->at = 0;
@@ -65,10 +72,33 @@ static int32_t clamp_err(int32_t e)
     return e;
 }
 
-int16_t speed_step(speed_loop *s, uint32_t n, uint8_t run, uint8_t rev,
-                   int32_t edges, uint8_t ms)
+/* The reference's advance over `ms`, edges << 16: EDGES_PER_MS_Q16 / n
+ * a ms exactly, its remainder summed in inc_part and carried, so the
+ * reference never drifts from 125,000 / N counts a second. */
+static int32_t advance(speed_loop *s, uint8_t ms)
 {
-    int32_t moved = edges - s->last_edges;
+    uint32_t part = s->inc_part + s->inc_rem * ms;      /* < 2^16 x 257 */
+    uint32_t carry = 0;
+
+    if (ms == 1) {                  /* the usual step: no division */
+        if (part >= s->n) {
+            part -= s->n;
+            carry = 1;
+        }
+    } else {
+        carry = part / s->n;
+        part -= carry * s->n;
+    }
+    s->inc_part = part;
+    if (ms > 1 && s->inc_q16 > (INC_MAX - (int32_t)carry) / ms)
+        return INC_MAX;
+    return s->inc_q16 * ms + (int32_t)carry;
+}
+
+int16_t speed_step(speed_loop *s, uint32_t n, uint8_t run, uint8_t rev,
+                   uint32_t edges, uint8_t ms)
+{
+    int32_t moved = edges_between(edges, s->last_edges);
     int32_t inc, ff, p, d, slope;
 
     s->last_edges = edges;
@@ -81,14 +111,20 @@ int16_t speed_step(speed_loop *s, uint32_t n, uint8_t run, uint8_t rev,
     if (n != s->n) {
         s->n = n;
         s->inc_q16 = (int32_t)(EDGES_PER_MS_Q16 / n);
+        s->inc_rem = EDGES_PER_MS_Q16 % n;
+        s->inc_part = 0;
         s->ff = (int32_t)(FF_NUM / n / MOTOR_MAX_EDGES_PER_S);
     }
-    inc = s->inc_q16 * ms;
+    inc = advance(s, ms);
     ff = s->ff;
     if (rev) {
         inc = -inc;
         ff = -ff;
     }
+    if (moved > MOVED_MAX)
+        moved = MOVED_MAX;
+    else if (moved < -MOVED_MAX)
+        moved = -MOVED_MAX;
     s->err_q16 = clamp_err(s->err_q16 + inc - moved * 65536L);
     slope = s->err_q16 - s->past_q16[s->at];           /* over the last 4 steps */
     s->past_q16[s->at] = s->err_q16;
