@@ -22,6 +22,7 @@ import sys
 
 import rcl
 from rcl import repl
+from rcl.terminal import is_dumb
 from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
@@ -37,6 +38,9 @@ def version():
 
 
 # ------------------------------------------------------------------ output
+CLEAR_SCREEN = "\x1b[2J\x1b[H"     # ANSI: erase the screen, cursor to the top left
+
+
 class Output:
     """The machine's output stream, plus the text on the current screen line.
 
@@ -44,15 +48,21 @@ class Output:
     the F83 way; the pipe needs nothing but the text itself.
     """
 
-    def __init__(self, stream, flush_each):
+    def __init__(self, stream, flush_each, clears=False):
         self.stream = stream
         self.flush_each = flush_each
+        self.clears = clears      # a terminal: PAGE's form feed clears the screen
         self.tail = ""
 
     def write(self, text):
+        if self.clears and "\f" in text:
+            # A terminal shows a form feed as a line feed at best; a file or
+            # a pipe keeps it, the page break it is.
+            text = text.replace("\f", CLEAR_SCREEN)
         self.send(text, self.flush_each)
-        cut = max(text.rfind("\n"), text.rfind("\r"))
-        self.tail = text[cut + 1:] if cut >= 0 else (self.tail + text)[-4096:]
+        cut = max(text.rfind(end) + len(end) if end in text else 0
+                  for end in ("\n", "\r", CLEAR_SCREEN))
+        self.tail = text[cut:] if cut > 0 else (self.tail + text)[-4096:]
 
     def redraw(self, text):
         """Write text the screen already held (it does not move the tail)."""
@@ -295,8 +305,9 @@ def run_startup(m, args, out):
 
 # -------------------------------------------------------------------- pipe
 def run_pipe(m, out, feed):
-    """Interpret piped lines; every error shows as on F83's screen, and the
-    next line still runs, except the rest of a definition the error
+    """Interpret piped lines; a line that printed something ends its output
+    with a newline; every error shows as on F83's screen, and the next line
+    still runs, except the rest of a definition the error
     abandoned (repl.OpenDefinition). -> 0, or 1 if any line failed."""
     status, guard = 0, repl.OpenDefinition(m)
     while True:
@@ -320,6 +331,7 @@ def run_pipe(m, out, feed):
         except Exception as e:
             out.write(internal(m, e) + "\n")
             status = 1
+        out.end_line()          # one line's output never runs into the next's
         out.flush()
 
 
@@ -400,7 +412,8 @@ def run_machine(args, record=None):
         if hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="replace")
     interactive = sys.stdin is not None and sys.stdin.isatty()
-    out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty())
+    out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty(),
+                 clears=sys.stdout.isatty() and not is_dumb())
     m = make_machine(args, out.write)
     if record:
         record(m)

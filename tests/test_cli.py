@@ -35,6 +35,15 @@ def test_piped_line_prints_only_what_the_program_prints_and_a_final_newline():
     assert (done.stdout, done.returncode) == ("5 \n", 0)
 
 
+def test_each_piped_line_that_prints_ends_its_output_with_a_newline():
+    done = rcl(stdin='1 .\n\n2 3 + .\n: SHOUT ." deg FT" ;\nSHOUT\nNOSUCH\n')
+    assert done.stdout == "1 \n5 \ndeg FT\nNOSUCH  ? \n"
+
+
+def test_page_in_a_pipe_is_a_form_feed_not_a_terminal_sequence():
+    assert rcl(stdin="1 . PAGE 2 .\n").stdout == "1 \f2 \n"
+
+
 def test_piped_input_without_final_newline_still_runs():
     assert rcl(stdin="2 3 + .").stdout == "5 \n"
 
@@ -79,7 +88,7 @@ def test_bye_after_an_error_exits_one():
 
 def test_accept_reads_the_next_piped_line():
     done = rcl(stdin="PAD 80 ACCEPT PAD SWAP TYPE\nhello world\n1 .\n")
-    assert done.stdout == "hello world1 \n"
+    assert done.stdout == "hello world\n1 \n"
 
 
 def test_key_reads_the_next_piped_characters_enter_as_13():

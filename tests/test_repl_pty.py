@@ -123,3 +123,15 @@ def test_accept_reads_a_line_from_the_user(child):
 def test_clock_meta_command_shows_virtual_seconds(child):
     child.sendline("#clock")
     child.expect(r"clock \d+\.\d+ s")
+
+
+def test_page_clears_a_terminal_as_terminals_expect(child, terminal):
+    """PAGE's form feed reaches a terminal as ANSI's erase-screen and
+    cursor-home (a terminal shows a bare form feed as a line feed at
+    best); a dumb terminal gets the form feed itself."""
+    child.sendline("1 . PAGE 2 .")
+    if terminal == "dumb":
+        child.expect_exact("1 \f2  ok")
+    else:
+        child.expect_exact("1 \x1b[2J\x1b[H2  ok")
+    ctrl_d(child)
