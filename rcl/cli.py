@@ -257,7 +257,7 @@ def parse_args(argv):
                    help="write the board's trace (a row per tick that changed) at the end")
     p.add_argument("--plot", metavar="FILE.png",
                    help="draw path, wheel speeds and following error at the end "
-                        "(.png .svg .pdf; needs the extra rcl[plot])")
+                        "(.png .svg .pdf; needs matplotlib)")
     add_link_args(p)
     p.add_argument("--version", action=VersionAction)
     args = p.parse_intermixed_args(argv)

@@ -1,5 +1,5 @@
 """Pictures of a trace (rcl.track.Track), drawn with matplotlib (the
-optional extra rcl[plot]); the same for the simulated board and for what a
+optional extra "plot" of pyproject.toml); the same for the simulated board and for what a
 host saw of a real one.
 
     +-----------------+  speed: each wheel's counts per tick as in/s, the
@@ -25,7 +25,9 @@ from rcl.safefile import write_atomically
 from rcl.track import COUNTS_PER_INCH
 
 FORMATS = ("png", "svg", "pdf")
-EXTRA = "matplotlib is not installed: plots need the extra, pip install 'rcl[plot]'"
+# Not "pip install 'rcl[plot]'": on the package index "rcl" is another project.
+EXTRA = ("matplotlib is not installed: plots need it, pip install matplotlib "
+         "(or, in rcl's clone, pip install -e '.[plot]')")
 WHEEL_COLOURS = {"left": "tab:blue", "right": "tab:orange"}
 DPI = 80
 FERR_LIMIT = 100              # counts: RCL's FERR-LIMIT at power-on

@@ -19,7 +19,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SQUARE = os.path.join(rcl.SCREENS, "examples", "listing1.fs")
 needs_matplotlib = pytest.mark.skipif(
     __import__("importlib.util").util.find_spec("matplotlib") is None,
-    reason="matplotlib is not installed (the extra rcl[plot])")
+    reason="matplotlib is not installed (pip install matplotlib)")
 SVG = "{http://www.w3.org/2000/svg}"
 
 
@@ -130,9 +130,9 @@ def test_an_unknown_picture_type_is_refused_by_name(square):
         plot.draw(square, "square.gif")
 
 
-def test_without_matplotlib_the_message_names_the_extra(monkeypatch):
+def test_without_matplotlib_the_message_gives_a_command_that_installs_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)    # import fails
-    with pytest.raises(plot.PlotError, match=r"pip install 'rcl\[plot\]'"):
+    with pytest.raises(plot.PlotError, match=r"pip install matplotlib .*pip install -e '\.\[plot\]'"):
         plot.require_matplotlib()
 
 
@@ -204,7 +204,7 @@ def test_rcl_trace_needs_a_board(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_rcl_plot_without_matplotlib_names_the_extra_and_runs_nothing(tmp_path):
+def test_rcl_plot_without_matplotlib_gives_the_command_that_installs_it_and_runs_nothing(tmp_path):
     fake = tmp_path / "hide" / "matplotlib"
     fake.mkdir(parents=True)
     (fake / "__init__.py").write_text("raise ImportError('hidden for the test')\n")
@@ -213,7 +213,9 @@ def test_rcl_plot_without_matplotlib_names_the_extra_and_runs_nothing(tmp_path):
                           input="", capture_output=True, text=True, timeout=60,
                           cwd=tmp_path, env=env)
     assert done.returncode == 2 and done.stdout == ""
-    assert "pip install 'rcl[plot]'" in done.stderr and "Traceback" not in done.stderr
+    # "rcl" on the package index is another project: the command is this one's
+    assert "pip install matplotlib" in done.stderr and "rcl[plot]" not in done.stderr
+    assert "pip install -e '.[plot]'" in done.stderr and "Traceback" not in done.stderr
 
 
 def test_plot_draws_the_limit_rcl_has_now():
