@@ -124,6 +124,12 @@ def test_file_error_prints_file_and_line_on_stderr_and_exits_one(source):
     assert done.stdout == ""                     # stdin is not read after it
 
 
+def test_file_error_stops_the_later_files_and_e_and_stdin_as_the_guide_says(source):
+    bad, good = source("foo\n", "bad.fs"), source("2 .\n", "good.fs")
+    done = rcl(bad, good, "-e", "3 .", stdin="4 .\n")
+    assert (done.stdout, done.stderr, done.returncode) == ("", "%s:1: FOO  ?\n" % bad, 1)
+
+
 def test_file_error_message_keeps_f83_text(source):
     path = source("DROP\n")
     assert rcl(path).stderr == "%s:1: Stack Underflow\n" % path
