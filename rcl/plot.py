@@ -13,7 +13,8 @@ host saw of a real one.
 
 Every artist a test may look for carries a gid (`path-1` for trip 1,
 `start`, `end`, `beeps`, `stops`, `speed-left`, `acc-end`, `dec-start`,
-`ferr-left`, `ferr-limit`, `tripped`), which SVG output keeps as the id
+`ferr-left`, `ferr-limit`, `tripped` and `tripped-path` for every move
+stopped before its end), which SVG output keeps as the id
 of the artist's group.
 """
 import io
@@ -135,8 +136,10 @@ def draw_path(ax, track, limit=FERR_LIMIT):
         b = ax.plot([x[i] for i in beeps], [y[i] for i in beeps], "*", color="crimson", ms=9,
                     label="beeps (%d)" % len(beeps))[0]
         b.set_gid("beeps")
-    for i, wheel in tripped(track, limit):
-        ax.plot(x[i], y[i], "X", color="red", ms=14, label="following error (%s)" % wheel)
+    early = tripped(track, limit)
+    if early:
+        ax.plot([x[i] for i, _ in early], [y[i] for i, _ in early], "X", color="red", ms=14,
+                label="stopped before its end (%d)" % len(early))[0].set_gid("tripped-path")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x, feet")
     ax.set_ylabel("y, feet")
@@ -268,7 +271,7 @@ def draw_following(ax, track, times, limit):
     if trips:
         errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
         m = ax.plot([times[i] for i, _ in trips], [errs[w][i] for i, w in trips], "X",
-                    color="red", ms=12, label="following error: stopped")[0]
+                    color="red", ms=12, label="stopped before its end")[0]
         m.set_gid("tripped")
     finish_panel(ax, "following error, counts", "commanded minus encoder (following error)")
 
@@ -288,15 +291,22 @@ def gapped(err, times):
 
 
 def tripped(track, limit):
-    """(row, wheel) where a move's following error first passed the limit."""
+    """(row, wheel) of every move stopped before its end, one mark a move:
+    where its following error first passed the limit in the trace, else
+    (RCL saw it pass within the tick, or another error or Ctrl-C stopped
+    it) its last row, on the wheel further behind."""
+    errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
+    cut = set(track.cut_short())
     out = []
-    for wheel in WHEEL_COLOURS:
-        err = dict(track.following_error(wheel))
-        for move in track.moves:
-            over = [i for i in range(move.first, move.last + 1) if abs(err.get(i, 0)) > limit]
-            if over:
-                out.append((over[0], wheel))
-    return sorted(out)
+    for move in track.moves:
+        over = [(i, w) for w in WHEEL_COLOURS for i in range(move.first, move.last + 1)
+                if abs(errs[w].get(i, 0)) > limit]
+        if over:
+            out.append(min(over))
+        elif move.last in cut:
+            out.append((move.last, max(WHEEL_COLOURS,
+                                       key=lambda w: abs(errs[w].get(move.last, 0)))))
+    return out
 
 
 def mark_cuts(ax, track, times, cuts):

@@ -104,6 +104,27 @@ def test_a_stalled_wheel_shows_its_error_passing_the_limit_where_it_tripped(stal
     assert len(t) == 1 and 100 < e[0] < 115                 # stopped at the first tick over
 
 
+@needs_matplotlib
+def test_a_move_rcl_stopped_is_marked_as_the_stalled_one_is_even_under_the_limit():
+    m = rcl.open()
+    rec = Trace(m.sim.board, keep=True)
+    with pytest.raises(rcl.ForthError, match="Following error"):
+        m.evaluate("1 G 4 MPH 5 FEET FORWARD")              # 1 G: twice the motors' torque
+    track = Track.of(rec)
+    fig = plot.figure(track)
+    times, _ = track.motion_time()
+    t, e = artist(fig, "tripped").get_data()
+    assert list(t) == [times[track.moves[0].last]] and 80 < e[0] <= 100
+    x, _ = artist(fig, "tripped-path").get_data()
+    assert list(x) == [track.x[track.moves[0].last] / 12]
+
+
+@needs_matplotlib
+def test_the_stalled_wheel_is_marked_on_the_path_too(stalled):
+    x, _ = artist(plot.figure(stalled), "tripped-path").get_data()
+    assert len(x) == 1
+
+
 # ----------------------------------------------------------------- files
 @needs_matplotlib
 def test_the_svg_of_the_square_is_as_wide_as_it_is_tall(square, tmp_path):
