@@ -83,23 +83,42 @@ def figure(track, title=None, ferr_limit=FERR_LIMIT):
     from matplotlib.figure import Figure
     if track.n < 2:
         raise PlotError("nothing to plot: the trace holds %d row(s)" % track.n)
-    fig = Figure(figsize=(13, 7.5), layout="constrained")
-    grid = fig.add_gridspec(3, 2, width_ratios=(1.05, 1))
+    # A day of several trips is unreadable on one time axis: its first trip
+    # in detail, and the whole day as one summary panel below.
+    trips = track.trips()
+    day = len(trips) > 1
+    detail = track.part(*first_trip_rows(track)) if day else track
+    fig = Figure(figsize=(13, 9.5 if day else 7.5), layout="constrained")
+    grid = fig.add_gridspec(4 if day else 3, 2, width_ratios=(1.05, 1))
     path_axes = fig.add_subplot(grid[:, 0])
     speed_axes = fig.add_subplot(grid[0, 1])
     pos_axes = fig.add_subplot(grid[1, 1], sharex=speed_axes)
     ferr_axes = fig.add_subplot(grid[2, 1], sharex=speed_axes)
-    times, cuts = track.motion_time()
+    times, cuts = detail.motion_time()
+    if day:                                   # the trip's own clock, from 0
+        times, cuts = [t - times[0] for t in times], [c - times[0] for c in cuts]
     draw_path(path_axes, track, ferr_limit)
-    draw_speeds(speed_axes, track, times)
-    draw_positions(pos_axes, track, times)
-    draw_following(ferr_axes, track, times, ferr_limit)
+    draw_speeds(speed_axes, detail, times)
+    draw_positions(pos_axes, detail, times)
+    draw_following(ferr_axes, detail, times, ferr_limit)
     for ax in (speed_axes, pos_axes, ferr_axes):
-        mark_cuts(ax, track, times, cuts)
-    ferr_axes.set_xlabel("time, s" + ("  (waits cut to 2 s at the dotted lines)" if cuts else ""))
+        mark_cuts(ax, detail, times, cuts)
+        if day:
+            ax.set_title("trip 1 of %d: %s" % (len(trips), ax.get_title()))
+    ferr_axes.set_xlabel(("time in trip 1, s" if day else "time, s")
+                         + ("  (waits cut to 2 s at the dotted lines)" if cuts else ""))
+    if day:
+        draw_day(fig.add_subplot(grid[3, 1]), track, ferr_limit)
     if title:
         fig.suptitle(title)
     return fig
+
+
+def first_trip_rows(track):
+    """(first, last) rows of the first trip, with the row before its first
+    move (where it starts from) and up to the row before the next trip."""
+    trips = track.trips()
+    return max(0, trips[0][0] - 1), trips[1][0] - 1
 
 
 # ------------------------------------------------------------------ path
@@ -307,6 +326,31 @@ def tripped(track, limit):
             out.append((move.last, max(WHEEL_COLOURS,
                                        key=lambda w: abs(errs[w].get(move.last, 0)))))
     return out
+
+
+# ------------------------------------------------------------ the day
+def draw_day(ax, track, limit):
+    """Each move of the day as one point: its largest following error
+    (either wheel), at its start in hours, coloured by trip; the limit,
+    and every move stopped before its end."""
+    errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
+    for k, (first, last) in enumerate(track.trips()):
+        moves = [mv for mv in track.moves if first <= mv.first <= last]
+        ts = [track.t[mv.first] / 3600 for mv in moves]
+        peaks = [max(abs(errs[w].get(i, 0)) for w in WHEEL_COLOURS
+                     for i in range(mv.first, mv.last + 1)) for mv in moves]
+        ax.plot(ts, peaks, "o", ms=3, color=trip_colour(k),
+                label="trip %d" % (k + 1))[0].set_gid("day-%d" % (k + 1))
+    ax.axhline(limit, color="red", ls="--", lw=1, label="FERR-LIMIT %d counts" % limit)
+    early = tripped(track, limit)
+    if early:
+        ax.plot([track.t[i] / 3600 for i, _ in early],
+                [abs(errs[w][i]) for i, w in early], "X", color="red", ms=10,
+                label="stopped before its end")[0].set_gid("day-tripped")
+    ax.set_ylim(0, max(limit * 1.1, ax.get_ylim()[1]))
+    ax.set_xlabel("hours since the start")
+    finish_panel(ax, "largest error, counts",
+                 "the day: each move's largest following error", columns=5)
 
 
 def mark_cuts(ax, track, times, cuts):

@@ -100,6 +100,12 @@ class Track:
         """-> Track of a Trace kept in memory (`keep=True`)."""
         return cls(trace.rows, trace.FIELDS, **kw)
 
+    def part(self, first, last):
+        """-> Track of rows first..last only (one trip of a day)."""
+        fields = list(self.col)
+        rows = list(zip(*(self.col[f][first:last + 1] for f in fields)))
+        return Track(rows, fields, self.trip_gap)
+
     # ------------------------------------------------------------- pose
     def pose(self):
         """x, y (inches) and heading (degrees): as observed, else dead-reckoned."""

@@ -125,6 +125,40 @@ def test_the_stalled_wheel_is_marked_on_the_path_too(stalled):
     assert len(x) == 1
 
 
+@pytest.fixture(scope="module")
+def two_trips():
+    """Two trips as MAILBOT's day has eight: moves more than trip_gap apart."""
+    m = rcl.open()
+    rec = Trace(m.sim.board, keep=True)
+    m.evaluate("RERB 2 MPH 1 FEET FORWARD 90 DEGREES LEFT  3 SECONDS  2 FEET FORWARD")
+    m.sim.run(0.5)
+    return Track.of(rec, trip_gap=2.0)
+
+
+@needs_matplotlib
+def test_a_day_shows_its_first_trip_in_detail_and_each_move_in_a_summary(two_trips):
+    track = two_trips
+    (first, last), (second, _) = track.trips()
+    fig = plot.figure(track)
+    assert len(fig.axes) == 5                       # path, trip 1's three panels, the day
+    t, _ = artist(fig, "speed-left").get_data()
+    assert len(t) == second - max(0, first - 1)     # trip 1's rows only
+    assert fig.axes[1].get_title().startswith("trip 1 of 2: ")
+    # the day: one point a move, at its start in hours, its largest error
+    one_t, one_e = artist(fig, "day-1").get_data()
+    two_t, two_e = artist(fig, "day-2").get_data()
+    assert (len(one_t), len(two_t)) == (2, 1)
+    assert two_t[0] == pytest.approx(track.t[track.moves[2].first] / 3600)
+    peak = max(abs(e) for w in ("left", "right") for i, e in track.following_error(w)
+               if track.moves[2].first <= i <= track.moves[2].last)
+    assert two_e[0] == pytest.approx(peak) and 5 < peak < 30
+
+
+@needs_matplotlib
+def test_one_trip_keeps_the_three_time_panels(square):
+    assert len(plot.figure(square).axes) == 4
+
+
 # ----------------------------------------------------------------- files
 @needs_matplotlib
 def test_the_svg_of_the_square_is_as_wide_as_it_is_tall(square, tmp_path):
