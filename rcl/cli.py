@@ -233,6 +233,8 @@ def parse_args(argv):
         prog="rcl", description="RCL, an F83-style Forth for the 1986 R-E Robot.",
         epilog="Files load first, in order, then each -e, then standard input: "
                "a prompt on a terminal, else plain Forth source (no prompts). "
+               "A FILE or -e that fails stops the rest and the piped input "
+               "(exit 1); a terminal still gets the prompt. "
                "At the prompt, HELP shows how to start.")
     p.add_argument("files", nargs="*", metavar="FILE",
                    help="Forth source to load; also looked for in RCL's screens "
