@@ -135,3 +135,20 @@ def test_page_clears_a_terminal_as_terminals_expect(child, terminal):
     else:
         child.expect_exact("1 \x1b[2J\x1b[H2  ok")
     ctrl_d(child)
+
+
+def test_a_file_error_at_a_terminal_stops_the_later_e_but_the_prompt_opens(tmp_path):
+    bad = tmp_path / "bad.fs"
+    bad.write_text("foo\n")
+    env = dict(os.environ, HOME=str(tmp_path), PYTHONPATH=ROOT, TERM="dumb")
+    child = pexpect.spawn(sys.executable, ["-m", "rcl", str(bad), "-e", "111 ."], env=env,
+                          encoding="utf-8", timeout=TIMEOUT, dimensions=(24, 80))
+    try:
+        child.expect_exact("bad.fs:1: FOO  ?")
+        child.sendline("2 3 + .")
+        child.expect_exact("5  ok")
+        assert "111" not in child.before
+        ctrl_d(child)
+    finally:
+        child.close(force=True)
+    assert "Traceback" not in child.before
