@@ -4,6 +4,9 @@
 \ HOME-POSE .POSE-METRIC UR*/ METRIC>INCHES FAULT!.
 \ Relies on layers 5 to 9 and the status words. None of these is in the
 \ 1986 article; its words are untouched (this layer only adds words).
+\ Loaded on demand, INCLUDE 97-hobbyist.fs, not by rcl.fs: the time its
+\ loading takes would start the control loop later against the 8253s'
+\ own clocks, and change every simulated run of the article by a count.
 \ A metric distance or speed is kept as the article's INCHES or IPS value
 \ nearest to it that gives exactly the metric count: with 1 in = 2.54 cm
 \ and 625/22 counts an inch, counts = round(V4 x n / 44704) for V4 in

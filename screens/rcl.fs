@@ -14,7 +14,6 @@ INCLUDE 75-control.fs
 INCLUDE 80-commands.fs
 INCLUDE 90-time.fs
 INCLUDE 95-status.fs
-INCLUDE 97-hobbyist.fs   \ beyond the article: metric units, faults, HOME-POSE
 ' (SAFE) SAFE-STATE !   \ run after every error, before the user's ON-ABORT
 WARNING ON
 DECIMAL INSTALL

@@ -33,9 +33,15 @@ def typed(v4):
     return "%s%d.%04d" % (sign, abs(v4) // 10000, abs(v4) % 10000)
 
 
+def hobbyist(m):
+    """m with the layer loaded, as INCLUDE 97-hobbyist.fs loads it."""
+    m.evaluate("INCLUDE 97-hobbyist.fs")
+    return m
+
+
 @pytest.fixture(scope="module")
 def machine():
-    return rcl.open()
+    return hobbyist(rcl.open())
 
 
 def expected(m, text):
@@ -98,13 +104,14 @@ def test_a_non_positive_speed_is_refused_as_the_articles_are(machine):
 
 
 def test_100_cm_forward_drives_the_robot_1118_counts_and_reports_it_in_cm():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("RERB 100 CM FORWARD")
     left, right = m.sim.wheel_counts
     assert abs(left - 1118) <= 2 and abs(right - 1118) <= 2   # RUN-ON: 2 counts
-    mils = int(m.evaluate("POSE-X 2@ D."))
+    out = m.evaluate(".POSE-METRIC")
+    mils = int(m.evaluate("POSE-X 2@ D."))                      # as .POSE-METRIC left it
     hundredths_cm = rounded(Fraction(mils * 127, 500))
-    assert m.evaluate(".POSE-METRIC") == "x %d.%02d cm  y 0.00 cm  heading 0.0 deg " % (
+    assert out == "x %d.%02d cm  y 0.00 cm  heading 0.0 deg " % (
         hundredths_cm // 100, hundredths_cm % 100)
     assert abs(hundredths_cm - 10000) <= 25                    # 100 cm within a count (0.09 cm)
 
@@ -114,13 +121,13 @@ def test_negative_centimetres_go_the_other_way(machine):
 
 
 def test_the_arm_takes_centimetres_as_inches():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("ARM 5 CM DOWN")                               # 1.9685 in: 197 ticks of 0.01 in
     assert m.sim.arm == pytest.approx(8.0 - 1.97, abs=0.02)
 
 
 def test_home_pose_zeroes_rcls_pose_without_moving():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("RERB 1 FEET FORWARD 90 DEGREES LEFT 200 MS")   # the run-on at rest too
     before = m.sim.wheel_counts
     assert m.evaluate("HOME-POSE .POSE") == "x 0.00 in  y 0.00 in  heading 0.0 deg "
@@ -130,7 +137,7 @@ def test_home_pose_zeroes_rcls_pose_without_moving():
 
 
 def test_stall_left_stops_the_left_wheel_and_the_move_ends_in_a_following_error():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("STALL-LEFT")
     with pytest.raises(rcl.ForthError, match="Following error"):
         m.evaluate("RERB 1 FEET FORWARD")
@@ -141,7 +148,7 @@ def test_stall_left_stops_the_left_wheel_and_the_move_ends_in_a_following_error(
 
 
 def test_stall_right_and_a_full_load_hold_their_wheel():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("STALL-RIGHT")
     with pytest.raises(rcl.ForthError, match="Following error"):
         m.evaluate("RERB 1 FEET FORWARD")
@@ -155,14 +162,14 @@ def test_stall_right_and_a_full_load_hold_their_wheel():
 
 
 def test_a_half_load_slows_the_wheel_but_the_move_completes():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("50 LOAD-RIGHT RERB 1 FEET FORWARD")
     assert m.sim.drive.right.load == 0.5
     assert all(abs(c - 341) <= 3 for c in m.sim.wheel_counts)
 
 
 def test_an_encoder_that_stops_counting_leaves_its_counter_behind_the_wheel():
-    m = rcl.open()
+    m = hobbyist(rcl.open())
     m.evaluate("ENCODER-LEFT-OFF")
     with pytest.raises(rcl.ForthError, match="Following error"):
         m.evaluate("RERB 1 FEET FORWARD")
@@ -189,7 +196,7 @@ def test_every_fault_word_is_refused_with_a_clear_message_on_a_board_on_a_link(l
 
 @pytest.fixture(scope="module")
 def link():
-    m = rcl.open(port="rclsim://?rate=4")
+    m = hobbyist(rcl.open(port="rclsim://?rate=4"))
     yield m
     m.board.close()
 
@@ -198,6 +205,13 @@ def test_the_board_interface_refuses_faults_unless_a_board_has_them():
     from rcl.board import NullBoard
     with pytest.raises(NoFaults):
         NullBoard().inject_fault("stall", "left", 1)
+
+
+def test_the_layer_is_not_loaded_with_rcl_so_the_articles_runs_stay_as_they_were():
+    m = rcl.open()
+    assert m.dictionary.find("CM") is None and m.dictionary.find("HOME-POSE") is None
+    hobbyist(m)
+    assert m.dictionary.find("CM") is not None
 
 
 def test_the_layer_says_it_is_not_the_articles():
