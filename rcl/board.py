@@ -37,6 +37,7 @@ NullBoard below, what a bare machine has: every port reads 0xFF (floating
 bus) and writes go nowhere.
 """
 
+from rcl.errors import RclError
 from rcl.i80188 import PER_DAY_ADDR, TICKS_ADDR
 
 FORTH_CS = 0x1000      # the segment GET-CS returns: the Forth machine's 64 KiB
@@ -70,6 +71,8 @@ class Board:
     Observation
       trace(file) -> recorder, or None
       status() -> a line for the prompt's status, or ""
+    Faults (an optional capability: the simulated board has it)
+      inject_fault(fault, wheel, value)   "stall", "load" or "encoder"
     """
 
     due = None
@@ -166,6 +169,20 @@ class Board:
     def status(self):
         """One line about the board for a status display, or ""."""
         return ""
+
+    # --------------------------------------------------------------- faults
+    def inject_fault(self, fault, wheel, value):
+        """Put a fault on the board's hardware, for the prompt's fault words:
+        `fault` "stall" (value true: the wheel is blocked), "load" (a drag,
+        value in percent of the motor's torque, 0 to 100) or "encoder"
+        (value false: the wheel's encoder stops counting), on `wheel`
+        "left" or "right". A board that cannot (a real one: its faults are
+        real) raises NoFaults."""
+        raise NoFaults("Faults are injected on the simulated board only")
+
+
+class NoFaults(RclError):
+    """This board has no fault injection (Board.inject_fault)."""
 
 
 class NullBoard(Board):

@@ -22,6 +22,7 @@ import sys
 
 import rcl
 from rcl import repl
+from rcl.terminal import is_dumb
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")
@@ -36,6 +37,9 @@ def version():
 
 
 # ------------------------------------------------------------------ output
+CLEAR_SCREEN = "\x1b[2J\x1b[H"     # ANSI: erase the screen, cursor to the top left
+
+
 class Output:
     """The machine's output stream, plus the text on the current screen line.
 
@@ -43,15 +47,21 @@ class Output:
     the F83 way; the pipe needs nothing but the text itself.
     """
 
-    def __init__(self, stream, flush_each):
+    def __init__(self, stream, flush_each, clears=False):
         self.stream = stream
         self.flush_each = flush_each
+        self.clears = clears      # a terminal: PAGE's form feed clears the screen
         self.tail = ""
 
     def write(self, text):
+        if self.clears and "\f" in text:
+            # A terminal shows a form feed as a line feed at best; a file or
+            # a pipe keeps it, the page break it is.
+            text = text.replace("\f", CLEAR_SCREEN)
         self.send(text, self.flush_each)
-        cut = max(text.rfind("\n"), text.rfind("\r"))
-        self.tail = text[cut + 1:] if cut >= 0 else (self.tail + text)[-4096:]
+        cut = max(text.rfind(end) + len(end) if end in text else 0
+                  for end in ("\n", "\r", CLEAR_SCREEN))
+        self.tail = text[cut:] if cut > 0 else (self.tail + text)[-4096:]
 
     def redraw(self, text):
         """Write text the screen already held (it does not move the tail)."""
@@ -224,6 +234,8 @@ def parse_args(argv):
         prog="rcl", description="RCL, an F83-style Forth for the 1986 R-E Robot.",
         epilog="Files load first, in order, then each -e, then standard input: "
                "a prompt on a terminal, else plain Forth source (no prompts). "
+               "A FILE or -e that fails stops the rest and the piped input "
+               "(exit 1); a terminal still gets the prompt. "
                "At the prompt, HELP shows how to start.")
     p.add_argument("files", nargs="*", metavar="FILE",
                    help="Forth source to load; also looked for in RCL's screens "
@@ -248,7 +260,7 @@ def parse_args(argv):
                    help="write the board's trace (a row per tick that changed) at the end")
     p.add_argument("--plot", metavar="FILE.png",
                    help="draw path, wheel speeds and following error at the end "
-                        "(.png .svg .pdf; needs the extra rcl[plot])")
+                        "(.png .svg .pdf; needs matplotlib)")
     add_link_args(p)
     p.add_argument("--version", action=VersionAction)
     args = p.parse_intermixed_args(argv)
@@ -296,8 +308,9 @@ def run_startup(m, args, out):
 
 # -------------------------------------------------------------------- pipe
 def run_pipe(m, out, feed):
-    """Interpret piped lines; every error shows as on F83's screen, and the
-    next line still runs, except the rest of a definition the error
+    """Interpret piped lines; a line that printed something ends its output
+    with a newline; every error shows as on F83's screen, and the next line
+    still runs, except the rest of a definition the error
     abandoned (repl.OpenDefinition). -> 0, or 1 if any line failed."""
     status, guard = 0, repl.OpenDefinition(m)
     while True:
@@ -321,6 +334,7 @@ def run_pipe(m, out, feed):
         except Exception as e:
             out.write(internal(m, e) + "\n")
             status = 1
+        out.end_line()          # one line's output never runs into the next's
         out.flush()
 
 
@@ -401,7 +415,8 @@ def run_machine(args, record=None):
         if hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="replace")
     interactive = sys.stdin is not None and sys.stdin.isatty()
-    out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty())
+    out = Output(sys.stdout, flush_each=interactive or sys.stdout.isatty(),
+                 clears=sys.stdout.isatty() and not is_dumb())
     m = make_machine(args, out.write)
     if record:
         record(m)

@@ -1,5 +1,5 @@
 """Pictures of a trace (rcl.track.Track), drawn with matplotlib (the
-optional extra rcl[plot]); the same for the simulated board and for what a
+optional extra "plot" of pyproject.toml); the same for the simulated board and for what a
 host saw of a real one.
 
     +-----------------+  speed: each wheel's counts per tick as in/s, the
@@ -13,7 +13,8 @@ host saw of a real one.
 
 Every artist a test may look for carries a gid (`path-1` for trip 1,
 `start`, `end`, `beeps`, `stops`, `speed-left`, `acc-end`, `dec-start`,
-`ferr-left`, `ferr-limit`, `tripped`), which SVG output keeps as the id
+`ferr-left`, `ferr-limit`, `tripped` and `tripped-path` for every move
+stopped before its end), which SVG output keeps as the id
 of the artist's group.
 """
 import io
@@ -25,7 +26,9 @@ from rcl.safefile import write_atomically
 from rcl.track import COUNTS_PER_INCH
 
 FORMATS = ("png", "svg", "pdf")
-EXTRA = "matplotlib is not installed: plots need the extra, pip install 'rcl[plot]'"
+# Not "pip install 'rcl[plot]'": on the package index "rcl" is another project.
+EXTRA = ("matplotlib is not installed: plots need it, pip install matplotlib "
+         "(or, in rcl's clone, pip install -e '.[plot]')")
 WHEEL_COLOURS = {"left": "tab:blue", "right": "tab:orange"}
 DPI = 80
 FERR_LIMIT = 100              # counts: RCL's FERR-LIMIT at power-on
@@ -80,23 +83,42 @@ def figure(track, title=None, ferr_limit=FERR_LIMIT):
     from matplotlib.figure import Figure
     if track.n < 2:
         raise PlotError("nothing to plot: the trace holds %d row(s)" % track.n)
-    fig = Figure(figsize=(13, 7.5), layout="constrained")
-    grid = fig.add_gridspec(3, 2, width_ratios=(1.05, 1))
+    # A day of several trips is unreadable on one time axis: its first trip
+    # in detail, and the whole day as one summary panel below.
+    trips = track.trips()
+    day = len(trips) > 1
+    detail = track.part(*first_trip_rows(track)) if day else track
+    fig = Figure(figsize=(13, 9.5 if day else 7.5), layout="constrained")
+    grid = fig.add_gridspec(4 if day else 3, 2, width_ratios=(1.05, 1))
     path_axes = fig.add_subplot(grid[:, 0])
     speed_axes = fig.add_subplot(grid[0, 1])
     pos_axes = fig.add_subplot(grid[1, 1], sharex=speed_axes)
     ferr_axes = fig.add_subplot(grid[2, 1], sharex=speed_axes)
-    times, cuts = track.motion_time()
+    times, cuts = detail.motion_time()
+    if day:                                   # the trip's own clock, from 0
+        times, cuts = [t - times[0] for t in times], [c - times[0] for c in cuts]
     draw_path(path_axes, track, ferr_limit)
-    draw_speeds(speed_axes, track, times)
-    draw_positions(pos_axes, track, times)
-    draw_following(ferr_axes, track, times, ferr_limit)
+    draw_speeds(speed_axes, detail, times)
+    draw_positions(pos_axes, detail, times)
+    draw_following(ferr_axes, detail, times, ferr_limit)
     for ax in (speed_axes, pos_axes, ferr_axes):
-        mark_cuts(ax, track, times, cuts)
-    ferr_axes.set_xlabel("time, s" + ("  (waits cut to 2 s at the dotted lines)" if cuts else ""))
+        mark_cuts(ax, detail, times, cuts)
+        if day:
+            ax.set_title("trip 1 of %d: %s" % (len(trips), ax.get_title()))
+    ferr_axes.set_xlabel(("time in trip 1, s" if day else "time, s")
+                         + ("  (waits cut to 2 s at the dotted lines)" if cuts else ""))
+    if day:
+        draw_day(fig.add_subplot(grid[3, 1]), track, ferr_limit)
     if title:
         fig.suptitle(title)
     return fig
+
+
+def first_trip_rows(track):
+    """(first, last) rows of the first trip, with the row before its first
+    move (where it starts from) and up to the row before the next trip."""
+    trips = track.trips()
+    return max(0, trips[0][0] - 1), trips[1][0] - 1
 
 
 # ------------------------------------------------------------------ path
@@ -133,8 +155,10 @@ def draw_path(ax, track, limit=FERR_LIMIT):
         b = ax.plot([x[i] for i in beeps], [y[i] for i in beeps], "*", color="crimson", ms=9,
                     label="beeps (%d)" % len(beeps))[0]
         b.set_gid("beeps")
-    for i, wheel in tripped(track, limit):
-        ax.plot(x[i], y[i], "X", color="red", ms=14, label="following error (%s)" % wheel)
+    early = tripped(track, limit)
+    if early:
+        ax.plot([x[i] for i, _ in early], [y[i] for i, _ in early], "X", color="red", ms=14,
+                label="stopped before its end (%d)" % len(early))[0].set_gid("tripped-path")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x, feet")
     ax.set_ylabel("y, feet")
@@ -266,7 +290,7 @@ def draw_following(ax, track, times, limit):
     if trips:
         errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
         m = ax.plot([times[i] for i, _ in trips], [errs[w][i] for i, w in trips], "X",
-                    color="red", ms=12, label="following error: stopped")[0]
+                    color="red", ms=12, label="stopped before its end")[0]
         m.set_gid("tripped")
     finish_panel(ax, "following error, counts", "commanded minus encoder (following error)")
 
@@ -286,15 +310,47 @@ def gapped(err, times):
 
 
 def tripped(track, limit):
-    """(row, wheel) where a move's following error first passed the limit."""
+    """(row, wheel) of every move stopped before its end, one mark a move:
+    where its following error first passed the limit in the trace, else
+    (RCL saw it pass within the tick, or another error or Ctrl-C stopped
+    it) its last row, on the wheel further behind."""
+    errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
+    cut = set(track.cut_short())
     out = []
-    for wheel in WHEEL_COLOURS:
-        err = dict(track.following_error(wheel))
-        for move in track.moves:
-            over = [i for i in range(move.first, move.last + 1) if abs(err.get(i, 0)) > limit]
-            if over:
-                out.append((over[0], wheel))
-    return sorted(out)
+    for move in track.moves:
+        over = [(i, w) for w in WHEEL_COLOURS for i in range(move.first, move.last + 1)
+                if abs(errs[w].get(i, 0)) > limit]
+        if over:
+            out.append(min(over))
+        elif move.last in cut:
+            out.append((move.last, max(WHEEL_COLOURS,
+                                       key=lambda w: abs(errs[w].get(move.last, 0)))))
+    return out
+
+
+# ------------------------------------------------------------ the day
+def draw_day(ax, track, limit):
+    """Each move of the day as one point: its largest following error
+    (either wheel), at its start in hours, coloured by trip; the limit,
+    and every move stopped before its end."""
+    errs = {w: dict(track.following_error(w)) for w in WHEEL_COLOURS}
+    for k, (first, last) in enumerate(track.trips()):
+        moves = [mv for mv in track.moves if first <= mv.first <= last]
+        ts = [track.t[mv.first] / 3600 for mv in moves]
+        peaks = [max(abs(errs[w].get(i, 0)) for w in WHEEL_COLOURS
+                     for i in range(mv.first, mv.last + 1)) for mv in moves]
+        ax.plot(ts, peaks, "o", ms=3, color=trip_colour(k),
+                label="trip %d" % (k + 1))[0].set_gid("day-%d" % (k + 1))
+    ax.axhline(limit, color="red", ls="--", lw=1, label="FERR-LIMIT %d counts" % limit)
+    early = tripped(track, limit)
+    if early:
+        ax.plot([track.t[i] / 3600 for i, _ in early],
+                [abs(errs[w][i]) for i, w in early], "X", color="red", ms=10,
+                label="stopped before its end")[0].set_gid("day-tripped")
+    ax.set_ylim(0, max(limit * 1.1, ax.get_ylim()[1]))
+    ax.set_xlabel("hours since the start")
+    finish_panel(ax, "largest error, counts",
+                 "the day: each move's largest following error", columns=5)
 
 
 def mark_cuts(ax, track, times, cuts):

@@ -2,6 +2,8 @@
 
     09:41:07  x 40.7 y 0.0 in  heading 0.0  moving 62%  arm 8.00 jaw 0.00 in  stack 0  BEEP
 
+On a narrow terminal the least useful fields shorten or go first (fit).
+
 `text(m)` reads it off the machine and its board (never changing them); a
 StatusLine keeps it on the terminal's last row, which a scroll region
 (ESC [ 1 ; rows-1 r) takes out of the scrolling text, so output and the
@@ -57,36 +59,72 @@ def sounding(board):
     return bool(board.beeps) and board.beeps[-1][1] is None
 
 
-def linked_text(m):
+def tenths(value):
+    """value to one decimal as the line shows it: never `-0.0`."""
+    return "%.1f" % (round(value, 1) + 0.0)
+
+
+def heading_text(degrees):
+    """0.0 up to 359.9: 359.97 rounds to 0.0, not to 360.0."""
+    return tenths(round(degrees, 1) % 360)
+
+
+def fit(parts, width):
+    """Join the parts with two blanks, within `width` columns when one is
+    given. Each part is (rank, forms): its text from the longest form to
+    the shortest, "" for a part that may go. While the line is too wide the
+    part of lowest rank that has a shorter form takes it, so the least
+    useful fields shorten or go first."""
+    parts = [[rank, list(forms)] for rank, forms in parts]
+
+    def line():
+        return "  ".join(forms[0] for _, forms in parts if forms[0])
+    while width is not None and len(line()) > width:
+        shorter = [p for p in parts if len(p[1]) > 1]
+        if not shorter:
+            return line()[:width]
+        min(shorter, key=lambda p: p[0])[1].pop(0)
+    return line()
+
+
+# What goes first when the line is too wide (the lowest rank first): the
+# link's details, the arm and jaw, a beep, the move, the stack, the time.
+LINK_DETAIL, ARM, BEEP, MOVE, STACK, TIME, POSE = range(7)
+
+
+def linked_text(m, width=None):
     """On a board over a link, from what the host has without asking the
     board (this runs beside the word running, which owns the link): RCL's
     own pose (its dead reckoning after each move), the move, the stack, and
     the link's state."""
     x, y = (fetch_var(m, name, True) for name in ("POSE-X", "POSE-Y"))
     heading = fetch_var(m, "POSE-HEADING")
-    parts = [m.board.status()]
+    link = m.board.status()
+    parts = [(LINK_DETAIL, [link, link.partition(":")[0]])]
     if None not in (x, y, heading):
         signed = [v - (1 << 32) if v >> 31 else v for v in (x, y)]
-        parts.append("x %.1f y %.1f in  heading %.1f (RCL's)"
-                     % (signed[0] / 1000, signed[1] / 1000, heading / 10))
-    parts += [move_text(m), "stack %d" % len(m.s)]
-    return "  ".join(p for p in parts if p)
+        pose = "x %s y %s in  heading %s" % (tenths(signed[0] / 1000), tenths(signed[1] / 1000),
+                                             heading_text(heading / 10))
+        parts.append((LINK_DETAIL, [pose + " (RCL's)", pose]))
+    parts += [(MOVE, [move_text(m), ""]), (STACK, ["stack %d" % len(m.s), ""])]
+    return fit(parts, width)
 
 
-def text(m):
-    """The status line of machine m: a simulated board's own observation
-    (`.sim`), else what the host knows of a board over a link."""
+def text(m, width=None):
+    """The status line of machine m, within `width` columns if given: a
+    simulated board's own observation (`.sim`), else what the host knows of
+    a board over a link."""
     if not hasattr(m, "sim"):
-        return linked_text(m)
+        return linked_text(m, width)
     sim = m.sim
     x, y, heading = sim.pose
-    parts = [time_of_day(sim.board),
-             "x %.1f y %.1f in  heading %.1f" % (x, y, heading % 360),
-             move_text(m),
-             "arm %.2f jaw %.2f in" % (sim.arm, sim.jaw),
-             "stack %d" % len(m.s),
-             "BEEP" if sounding(sim.board) else ""]
-    return "  ".join(p for p in parts if p)
+    parts = [(TIME, [time_of_day(sim.board), ""]),
+             (POSE, ["x %s y %s in  heading %s" % (tenths(x), tenths(y), heading_text(heading))]),
+             (MOVE, [move_text(m), ""]),
+             (ARM, ["arm %.2f jaw %.2f in" % (sim.arm, sim.jaw), ""]),
+             (STACK, ["stack %d" % len(m.s), ""]),
+             (BEEP, ["BEEP" if sounding(sim.board) else "", ""])]
+    return fit(parts, width)
 
 
 # ------------------------------------------------------------------ drawing
@@ -136,7 +174,7 @@ class StatusLine:
 
     def draw(self):
         rows, cols = self.size()
-        line = self.safe_text()[:cols - 1]
+        line = self.safe_text(cols - 1)
         ring = self.bell and self.new_beep()
         with self.lock:
             out = "\x1b7"
@@ -156,9 +194,9 @@ class StatusLine:
                 pass
         self.draw()
 
-    def safe_text(self):
+    def safe_text(self, width):
         try:
-            return text(self.m)
+            return text(self.m, width)
         except Exception:                        # a half-changed state: skip this one
             return ""
 

@@ -11,6 +11,7 @@ for rcl.plot to draw (or a test to check). No matplotlib here.
                            where the PLL was told to be (RCL's EXPACC/1200)
           --> breakpoints  where the reference stops rising, starts falling
           --> stops, beeps, trips (moves apart by more than `trip_gap` s)
+          --> cut_short    moves stopped before their end
 
 A host that drives a real board over a link sees the same columns but the
 pose (encoder counts per tick, the references it wrote, the relays): give
@@ -26,6 +27,7 @@ FIELDS = ("t", "x", "y", "heading", "left", "right", "ref_left", "ref_right",
           "motor", "aux", "arm", "jaw", "beeper")
 WHEELS = {"left": (M1_GO, M1_REV), "right": (M2_GO, M2_REV)}
 TICK_S = 0.0100005            # RCL's tick: 6667 counts of 1.5 us
+CREEP_HZ = 50.0               # V-CREEP's 600 crpm as encoder counts a second
 
 
 def memoized(method):
@@ -97,6 +99,12 @@ class Track:
     def of(cls, trace, **kw):
         """-> Track of a Trace kept in memory (`keep=True`)."""
         return cls(trace.rows, trace.FIELDS, **kw)
+
+    def part(self, first, last):
+        """-> Track of rows first..last only (one trip of a day)."""
+        fields = list(self.col)
+        rows = list(zip(*(self.col[f][first:last + 1] for f in fields)))
+        return Track(rows, fields, self.trip_gap)
 
     # ------------------------------------------------------------- pose
     def pose(self):
@@ -202,6 +210,19 @@ class Track:
         return out
 
     # ------------------------------------------- stops, beeps and trips
+    def cut_short(self):
+        """Last rows of the moves stopped before their end (a following
+        error, any error, Ctrl-C): the commanded speed was still above
+        twice RCL's creep speed (V-CREEP, 600 crpm: 50 counts/s) in the
+        move's last row with a GO bit on. A move that ends as planned has
+        slowed to the creep speed by then, or never went faster."""
+        out = []
+        for move in self.moves:
+            going = [i for i in range(move.first, move.last) if self.going(i)]
+            if going and any(abs(self.reference(w)[going[-1]]) > 2 * CREEP_HZ for w in WHEELS):
+                out.append(move.last)
+        return out
+
     def stops(self, least=10.0):
         """(row, seconds) of each wait of `least` seconds or more between moves."""
         out = []

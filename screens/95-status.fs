@@ -45,7 +45,7 @@ CREATE SINES    \ sin of 0 to 90 degrees, x 10000
         6 OF ." OPEN" ENDOF 7 OF ." CLOSE" ENDOF ENDCASE ;
 : .SETTINGS  ( -- )   \ device, speed, acceleration, each command's last distance
    ." device " DEVICE @ 1 = IF ." RERB" ELSE ." ARM" THEN
-   ."   speed " SPEED . ." crpm (8253 count " SPEED >REF U. ." )  accel "
+   ."   speed " SPEED . ." crpm (8253 count " SPEED >REF 0 U.R ." )  accel "
    ACCEL ? ." crpm/tick  following limit " FERR-LIMIT ? ." counts"
    8 0 DO  CR 2 SPACES I .COMMAND SPACE I LAST-DISTANCE DUP 2@ .V4 SPACE 4 + @ .UNIT  LOOP
    SPACE ;

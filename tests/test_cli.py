@@ -35,6 +35,15 @@ def test_piped_line_prints_only_what_the_program_prints_and_a_final_newline():
     assert (done.stdout, done.returncode) == ("5 \n", 0)
 
 
+def test_each_piped_line_that_prints_ends_its_output_with_a_newline():
+    done = rcl(stdin='1 .\n\n2 3 + .\n: SHOUT ." deg FT" ;\nSHOUT\nNOSUCH\n')
+    assert done.stdout == "1 \n5 \ndeg FT\nNOSUCH  ? \n"
+
+
+def test_page_in_a_pipe_is_a_form_feed_not_a_terminal_sequence():
+    assert rcl(stdin="1 . PAGE 2 .\n").stdout == "1 \f2 \n"
+
+
 def test_piped_input_without_final_newline_still_runs():
     assert rcl(stdin="2 3 + .").stdout == "5 \n"
 
@@ -79,7 +88,7 @@ def test_bye_after_an_error_exits_one():
 
 def test_accept_reads_the_next_piped_line():
     done = rcl(stdin="PAD 80 ACCEPT PAD SWAP TYPE\nhello world\n1 .\n")
-    assert done.stdout == "hello world1 \n"
+    assert done.stdout == "hello world\n1 \n"
 
 
 def test_key_reads_the_next_piped_characters_enter_as_13():
@@ -113,6 +122,12 @@ def test_file_error_prints_file_and_line_on_stderr_and_exits_one(source):
     assert done.stderr == "%s:3: FOO  ?\n" % path
     assert done.returncode == 1
     assert done.stdout == ""                     # stdin is not read after it
+
+
+def test_file_error_stops_the_later_files_and_e_and_stdin_as_the_guide_says(source):
+    bad, good = source("foo\n", "bad.fs"), source("2 .\n", "good.fs")
+    done = rcl(bad, good, "-e", "3 .", stdin="4 .\n")
+    assert (done.stdout, done.stderr, done.returncode) == ("", "%s:1: FOO  ?\n" % bad, 1)
 
 
 def test_file_error_message_keeps_f83_text(source):

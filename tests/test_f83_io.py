@@ -157,6 +157,14 @@ def test_words_lists_dup(forth):
     assert "DUP" in run(forth, "WORDS")
 
 
+def test_words_leaves_out_a_definition_an_error_abandoned(forth):
+    run(forth, ": KEPT 1 ;")
+    error_from(forth, ": ABANDONED 1 NOSUCH ;")
+    names = run(forth, "WORDS").split()
+    assert "KEPT" in names and "ABANDONED" not in names
+    assert error_from(forth, "ABANDONED").word == "ABANDONED"      # as it answers ?
+
+
 def test_see_decompiles_a_colon_definition(forth):
     out = run(forth, ": SQ DUP * ;  SEE SQ")
     assert "DUP" in out and "*" in out and ";" in out

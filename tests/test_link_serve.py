@@ -132,6 +132,17 @@ def test_rcl_board_listens_on_loopback_only_unless_allowed():
     assert run.returncode != 0 and "--allow-remote" in run.stderr
 
 
+def test_rcl_board_help_explains_every_option():
+    run = subprocess.run([sys.executable, "-m", "rcl.hw.boardcli", "--help"],
+                         capture_output=True, text=True, timeout=30)
+    options = run.stdout[run.stdout.index("options:"):]
+    # argparse puts an option with no help alone on its line, with no text after it
+    for option in ("--corrupt RATE", "--seed SEED", "--cut-at S", "--cut-for S",
+                   "--stall {left,right}", "--speak-version N", "--report FILE.json"):
+        line = next(ln for ln in options.splitlines() if ln.strip().startswith(option))
+        assert line.strip() != option, option
+
+
 def test_rcl_usb_sim_drives_the_simulated_usb_board():
     run = rcl_cli("--usb", "sim", "-e", "RERB 2 INCHES FORWARD TICKS@ D. BYE")
     assert run.returncode == 0, run.stderr

@@ -19,7 +19,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SQUARE = os.path.join(rcl.SCREENS, "examples", "listing1.fs")
 needs_matplotlib = pytest.mark.skipif(
     __import__("importlib.util").util.find_spec("matplotlib") is None,
-    reason="matplotlib is not installed (the extra rcl[plot])")
+    reason="matplotlib is not installed (pip install matplotlib)")
 SVG = "{http://www.w3.org/2000/svg}"
 
 
@@ -104,6 +104,61 @@ def test_a_stalled_wheel_shows_its_error_passing_the_limit_where_it_tripped(stal
     assert len(t) == 1 and 100 < e[0] < 115                 # stopped at the first tick over
 
 
+@needs_matplotlib
+def test_a_move_rcl_stopped_is_marked_as_the_stalled_one_is_even_under_the_limit():
+    m = rcl.open()
+    rec = Trace(m.sim.board, keep=True)
+    with pytest.raises(rcl.ForthError, match="Following error"):
+        m.evaluate("1 G 4 MPH 5 FEET FORWARD")              # 1 G: twice the motors' torque
+    track = Track.of(rec)
+    fig = plot.figure(track)
+    times, _ = track.motion_time()
+    t, e = artist(fig, "tripped").get_data()
+    assert list(t) == [times[track.moves[0].last]] and 80 < e[0] <= 100
+    x, _ = artist(fig, "tripped-path").get_data()
+    assert list(x) == [track.x[track.moves[0].last] / 12]
+
+
+@needs_matplotlib
+def test_the_stalled_wheel_is_marked_on_the_path_too(stalled):
+    x, _ = artist(plot.figure(stalled), "tripped-path").get_data()
+    assert len(x) == 1
+
+
+@pytest.fixture(scope="module")
+def two_trips():
+    """Two trips as MAILBOT's day has eight: moves more than trip_gap apart."""
+    m = rcl.open()
+    rec = Trace(m.sim.board, keep=True)
+    m.evaluate("RERB 2 MPH 1 FEET FORWARD 90 DEGREES LEFT  3 SECONDS  2 FEET FORWARD")
+    m.sim.run(0.5)
+    return Track.of(rec, trip_gap=2.0)
+
+
+@needs_matplotlib
+def test_a_day_shows_its_first_trip_in_detail_and_each_move_in_a_summary(two_trips):
+    track = two_trips
+    (first, last), (second, _) = track.trips()
+    fig = plot.figure(track)
+    assert len(fig.axes) == 5                       # path, trip 1's three panels, the day
+    t, _ = artist(fig, "speed-left").get_data()
+    assert len(t) == second - max(0, first - 1)     # trip 1's rows only
+    assert fig.axes[1].get_title().startswith("trip 1 of 2: ")
+    # the day: one point a move, at its start in hours, its largest error
+    one_t, one_e = artist(fig, "day-1").get_data()
+    two_t, two_e = artist(fig, "day-2").get_data()
+    assert (len(one_t), len(two_t)) == (2, 1)
+    assert two_t[0] == pytest.approx(track.t[track.moves[2].first] / 3600)
+    peak = max(abs(e) for w in ("left", "right") for i, e in track.following_error(w)
+               if track.moves[2].first <= i <= track.moves[2].last)
+    assert two_e[0] == pytest.approx(peak) and 5 < peak < 30
+
+
+@needs_matplotlib
+def test_one_trip_keeps_the_three_time_panels(square):
+    assert len(plot.figure(square).axes) == 4
+
+
 # ----------------------------------------------------------------- files
 @needs_matplotlib
 def test_the_svg_of_the_square_is_as_wide_as_it_is_tall(square, tmp_path):
@@ -130,9 +185,9 @@ def test_an_unknown_picture_type_is_refused_by_name(square):
         plot.draw(square, "square.gif")
 
 
-def test_without_matplotlib_the_message_names_the_extra(monkeypatch):
+def test_without_matplotlib_the_message_gives_a_command_that_installs_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)    # import fails
-    with pytest.raises(plot.PlotError, match=r"pip install 'rcl\[plot\]'"):
+    with pytest.raises(plot.PlotError, match=r"pip install matplotlib .*pip install -e '\.\[plot\]'"):
         plot.require_matplotlib()
 
 
@@ -204,7 +259,7 @@ def test_rcl_trace_needs_a_board(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_rcl_plot_without_matplotlib_names_the_extra_and_runs_nothing(tmp_path):
+def test_rcl_plot_without_matplotlib_gives_the_command_that_installs_it_and_runs_nothing(tmp_path):
     fake = tmp_path / "hide" / "matplotlib"
     fake.mkdir(parents=True)
     (fake / "__init__.py").write_text("raise ImportError('hidden for the test')\n")
@@ -213,7 +268,9 @@ def test_rcl_plot_without_matplotlib_names_the_extra_and_runs_nothing(tmp_path):
                           input="", capture_output=True, text=True, timeout=60,
                           cwd=tmp_path, env=env)
     assert done.returncode == 2 and done.stdout == ""
-    assert "pip install 'rcl[plot]'" in done.stderr and "Traceback" not in done.stderr
+    # "rcl" on the package index is another project: the command is this one's
+    assert "pip install matplotlib" in done.stderr and "rcl[plot]" not in done.stderr
+    assert "pip install -e '.[plot]'" in done.stderr and "Traceback" not in done.stderr
 
 
 def test_plot_draws_the_limit_rcl_has_now():

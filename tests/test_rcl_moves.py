@@ -308,6 +308,7 @@ def test_settings_show_the_current_speed_and_acceleration(robot):
     found = numbers(out)
     assert 132 in found, out
     assert 12000 in found or re.search(r"\b2(\.0+)? MPH", out), out
+    assert "crpm (8253 count 125)  accel" in out                 # 1500000 / 12000
 
 
 def test_time_prints_hours_minutes_and_seconds(robot):

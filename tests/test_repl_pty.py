@@ -123,3 +123,32 @@ def test_accept_reads_a_line_from_the_user(child):
 def test_clock_meta_command_shows_virtual_seconds(child):
     child.sendline("#clock")
     child.expect(r"clock \d+\.\d+ s")
+
+
+def test_page_clears_a_terminal_as_terminals_expect(child, terminal):
+    """PAGE's form feed reaches a terminal as ANSI's erase-screen and
+    cursor-home (a terminal shows a bare form feed as a line feed at
+    best); a dumb terminal gets the form feed itself."""
+    child.sendline("1 . PAGE 2 .")
+    if terminal == "dumb":
+        child.expect_exact("1 \f2  ok")
+    else:
+        child.expect_exact("1 \x1b[2J\x1b[H2  ok")
+    ctrl_d(child)
+
+
+def test_a_file_error_at_a_terminal_stops_the_later_e_but_the_prompt_opens(tmp_path):
+    bad = tmp_path / "bad.fs"
+    bad.write_text("foo\n")
+    env = dict(os.environ, HOME=str(tmp_path), PYTHONPATH=ROOT, TERM="dumb")
+    child = pexpect.spawn(sys.executable, ["-m", "rcl", str(bad), "-e", "111 ."], env=env,
+                          encoding="utf-8", timeout=TIMEOUT, dimensions=(24, 80))
+    try:
+        child.expect_exact("bad.fs:1: FOO  ?")
+        child.sendline("2 3 + .")
+        child.expect_exact("5  ok")
+        assert "111" not in child.before
+        ctrl_d(child)
+    finally:
+        child.close(force=True)
+    assert "Traceback" not in child.before

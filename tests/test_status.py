@@ -64,3 +64,44 @@ def test_status_on_a_linked_board_shows_the_link_and_rcls_own_pose():
         assert re.search(r"  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 0$", line)
     finally:
         m.board.close()
+
+
+def busy_system():
+    """Every field of the status line showing, the numbers at their widest."""
+    m = rcl.open()
+    m.evaluate("23 59 SET-CLOCK 1 2 3 4 5 6 7 8 9 10 11 12  MOVING ON  500. Q-AT 2!  1000. END-AT 2!"
+               "  BEEP-ON")
+    m.sim.place(-123.456, -456.789, 359.96)
+    return m
+
+
+def test_status_fits_79_columns_dropping_the_arm_first_and_keeping_the_stack_depth():
+    line = status.text(busy_system(), 79)     # an 80-column terminal keeps its last column free
+    assert len(line) <= 79
+    assert line == "23:59:00  x -123.5 y -456.8 in  heading 0.0  moving 50%  stack 12  BEEP"
+
+
+def test_status_sheds_fields_least_useful_first_as_the_terminal_narrows():
+    m = busy_system()
+    assert status.text(m).endswith("  arm 8.00 jaw 0.00 in  stack 12  BEEP")   # no width: all
+    assert status.text(m, 60) == "23:59:00  x -123.5 y -456.8 in  heading 0.0  stack 12"
+    assert status.text(m, 45) == "23:59:00  x -123.5 y -456.8 in  heading 0.0"
+
+
+def test_status_heading_wraps_to_0_and_a_small_negative_shows_as_0_0():
+    m = rcl.open()
+    m.sim.place(0.0, -0.04, 359.97)
+    assert "x 0.0 y 0.0 in  heading 0.0  " in status.text(m)
+    m.sim.place(-0.06, 0.0, -0.04)
+    assert "x -0.1 y 0.0 in  heading 0.0  " in status.text(m)
+
+
+def test_status_over_a_link_fits_79_columns_by_shortening_the_link_state():
+    m = rcl.open(port="rclsim://?rate=4")
+    try:
+        m.evaluate("RERB 2 MPH 1 FEET FORWARD .POSE 1 2")
+        assert len(status.linked_text(m)) > 79              # the whole line is wider
+        line = status.linked_text(m, 79)
+        assert re.fullmatch(r"link up  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 2", line)
+    finally:
+        m.board.close()

@@ -92,6 +92,21 @@ def test_a_blocked_wheel_lags_past_the_limit_where_rcl_stopped():
     assert track.moves[0].breakpoints["left"] is None      # it never decelerated
 
 
+def test_moves_that_end_as_planned_are_not_cut_short(square, trapezoid):
+    track, _ = square
+    assert track.cut_short() == [] and trapezoid.cut_short() == []
+
+
+def test_a_move_stopped_by_a_following_error_rcl_saw_within_the_tick_is_cut_short():
+    # 1 G is twice the motors' 0.5 G: the wheels fall behind, and RCL stops
+    # the move at its tick's count, over 100, while the trace's rows show
+    # at most 97 (their commanded position is a tick behind RCL's EXPACC).
+    track, _ = traced("1 G 4 MPH 5 FEET FORWARD")
+    move = track.moves[0]
+    assert max(e for _, e in track.following_error("left")) <= 100
+    assert track.cut_short() == [move.last]
+
+
 def test_the_square_is_eight_moves_that_end_where_they_began(square):
     track, m = square
     assert len(track.moves) == 8

@@ -7,7 +7,8 @@ serving the frame protocol behind a pseudo-terminal or a TCP port, so that
     rcl-board --tcp 127.0.0.1:0       any free port (the line names it)
 
 --rate R runs board time R times the wall clock; --free-running never
-holds board time for the host (see rcl.hw.server). Fault options: --corrupt RATE (flip a bit in that fraction of the bytes,
+holds board time for the host (see rcl.hw.server). Fault options:
+--corrupt RATE (flip a bit in that fraction of the bytes,
 both directions), --cut-at S --cut-for S (the link goes silent at board
 time S, for S seconds or for good; on TCP the connection is closed and
 new ones wait until the cut ends), --stall left|right, --speak-version N
@@ -37,17 +38,27 @@ def parse_args(argv):
     where.add_argument("--tcp", metavar="HOST:PORT", help="serve on a TCP port")
     p.add_argument("--allow-remote", action="store_true",
                    help="let --tcp listen on an address other than loopback")
-    p.add_argument("--corrupt", type=float, default=0.0, metavar="RATE")
-    p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--cut-at", type=float, metavar="S")
-    p.add_argument("--cut-for", type=float, metavar="S")
-    p.add_argument("--stall", choices=("left", "right"))
-    p.add_argument("--speak-version", type=int, default=P.VERSION, metavar="N")
+    p.add_argument("--corrupt", type=float, default=0.0, metavar="RATE",
+                   help="flip a bit in this fraction of the bytes, both directions "
+                        "(0.02 is 2 %%; default 0)")
+    p.add_argument("--seed", type=int, default=1,
+                   help="seed of --corrupt's choices, for a repeatable run (default 1)")
+    p.add_argument("--cut-at", type=float, metavar="S",
+                   help="the link goes silent at board time S seconds (on TCP the "
+                        "connection closes and new ones wait until the cut ends)")
+    p.add_argument("--cut-for", type=float, metavar="S",
+                   help="the cut of --cut-at lasts S seconds (default: for good)")
+    p.add_argument("--stall", choices=("left", "right"),
+                   help="that wheel is stalled from the start: its motor turns no more")
+    p.add_argument("--speak-version", type=int, default=P.VERSION, metavar="N",
+                   help="answer HELLO with protocol version N (default %d)" % P.VERSION)
     p.add_argument("--rate", type=float, default=1.0, metavar="R",
                    help="board time runs R times the wall clock (default 1)")
     p.add_argument("--free-running", action="store_true",
                    help="never wait for the host's TICK_DONE (as a real board)")
-    p.add_argument("--report", metavar="FILE.json")
+    p.add_argument("--report", metavar="FILE.json",
+                   help="at exit, write the wheel counts, pose, counters and port log "
+                        "as JSON")
     p.add_argument("--status", action="store_true",
                    help="a status line on stderr (the default on a terminal)")
     return p.parse_args(argv)

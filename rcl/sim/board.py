@@ -54,6 +54,13 @@ DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
 
 
+class CutWire:
+    """An encoder's line cut (the "encoder" fault): its pulses reach no counter."""
+
+    def clock(self, n):
+        pass
+
+
 class SimBoard(Board):
     """The default board: everything a user's RCL program drives."""
 
@@ -507,6 +514,28 @@ class SimBoard(Board):
     def trace(self, file=None):
         from rcl.sim.observe import Trace     # observe builds on this module
         return Trace(self, file, keep=True)
+
+    def inject_fault(self, fault, wheel, value):
+        """The prompt's fault words, as the Python API's (rcl.sim.observe.Sim)."""
+        from rcl.sim.observe import Sim
+        sim = Sim(self)
+        if fault == "stall":
+            sim.stall(wheel, bool(value))
+        elif fault == "load":
+            sim.load(wheel, value / 100)
+        elif fault == "encoder":
+            sim.encoder(wheel, bool(value))
+        else:
+            raise ValueError("no fault %r" % (fault,))
+
+    def connect_encoder(self, side, counting):
+        """Wheel `side` (0 left, 1 right): its encoder's pulses reach its
+        8253's counters 1 and 2, or (counting false) no counter at all."""
+        base = (C.LEFT_8253, C.RIGHT_8253)[side]
+        wires = list(self.encoders)
+        wires[2 * side:2 * side + 2] = (self.chips[base].counters[1:] if counting
+                                        else (CutWire(), CutWire()))
+        self.encoders = tuple(wires)
 
     def stop_motors(self):
         """Safe state: every relay open (wheels braked, arm and gripper off),

@@ -7,6 +7,7 @@ inches, degrees and seconds, and the faults it can inject.
     sim.arm, sim.jaw    lift height and jaw opening, inches
     sim.seconds         the virtual clock
     sim.stall("left")   a fault: the wheel is blocked
+    sim.load("left", 0.5), sim.encoder("left", counting=False)   more faults
 """
 import csv
 
@@ -108,6 +109,13 @@ class Sim:
         """A drag, as a fraction of the motor's torque (0 none, 1 stuck)."""
         self.board.sync()
         self.wheel(wheel).load = fraction
+
+    def encoder(self, wheel, counting=True):
+        """counting False: the wheel turns as before, but its encoder's
+        pulses no longer reach the 8253 (a cut wire); True mends it."""
+        self.wheel(wheel)                 # a wheel's name, checked
+        self.board.sync()                 # the pulses up to now still count
+        self.board.connect_encoder(WHEELS.index(wheel), counting)
 
     def block_gripper(self, width):
         """An object between the jaws: they cannot close below `width` in."""

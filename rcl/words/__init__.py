@@ -8,3 +8,4 @@ from rcl.words import fileaccess, heap, strings, toolsext  # noqa: F401  (new se
 from rcl.words import facility, localvars  # noqa: F401   earlier numbers stay)
 from rcl.words import tester  # noqa: F401  (T{ -> }T)
 from rcl.words import help  # noqa: F401
+from rcl.words import faults  # noqa: F401  (the simulated board's faults, from Forth)

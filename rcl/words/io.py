@@ -68,9 +68,9 @@ def bell(m):
 prim("BEEP", "( -- ) sound the console bell")(bell)
 
 
-@prim("PAGE", "( -- ) clear the screen")
+@prim("PAGE", "( -- ) clear the screen (to a file or pipe: a form feed)")
 def page(m):
-    m.type("\f")
+    m.type("\f")       # the terminal's side turns it into ANSI's clear (rcl/cli.py)
 
 
 @prim(".", "( n -- ) print signed, then a blank")

@@ -5,7 +5,7 @@ BEGIN UNTIL / AGAIN / WHILE REPEAT, DO LOOP, and literals their numbers.
 """
 from rcl.forth import inner
 from rcl.forth.compiler import decode
-from rcl.forth.dictionary import IMMEDIATE
+from rcl.forth.dictionary import HIDDEN, IMMEDIATE
 from rcl.forth.memory import MASK, PRIM_LIMIT, signed
 from rcl.forth.primitives import REGISTRY, prim
 from rcl.words.compiling import parse_word, tick
@@ -36,7 +36,10 @@ def dump(m):
 @prim("WORDS", "( -- ) the words of the first vocabulary searched, newest first")
 def words(m):
     d = m.dictionary
-    names = [d.name_of((lfa + 2) & MASK) for lfa in d.lfas(d.order()[0])]
+    # Not the hidden ones: a definition an error abandoned stays hidden, and
+    # typing its name gives ?, so listing it would mislead.
+    names = [d.name_of((lfa + 2) & MASK) for lfa in d.lfas(d.order()[0])
+             if not d.flags(lfa) & HIDDEN]
     m.type("\n".join(wrap([n for n in names if n], columns(m))) + "\n")
 
 
