@@ -56,6 +56,8 @@ class Board:
       tick_failed()        the tick handler failed: motors off, no more
                            ticks until the software sets the timer again
       reconnect()          a board on a link: connect again (RECONNECT)
+      close()              leaving: a board on a link is left safe and quiet
+                           (no tick) and its port closed
     Time shortcuts (a board may decline each; the result is the same)
       wait_started()       a wait begins: forget handler timings from before
       repeat_idle_ticks(n, c) -> primitives left
@@ -117,6 +119,9 @@ class Board:
     # -------------------------------------------------------------- safety
     def stop_motors(self):
         """Every motor and relay off."""
+
+    def close(self):
+        """Leaving rcl: nothing to do for a board in this process."""
 
     def tick_failed(self):
         """The interrupt handler failed: motors off and, on a board that

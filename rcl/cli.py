@@ -363,6 +363,7 @@ def robot_safe_at_exit(m):
         except BaseException:             # noqa: B036  still stop the motors
             pass
         m.board.stop_motors()
+        m.board.close()                   # a board on a link: its tick stopped too
 
 
 # -------------------------------------------------------------------- main
