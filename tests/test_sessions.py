@@ -8,8 +8,14 @@ firmware (firmware/build/native) and the Uno image under simavr.
 Each session is a host of its own on one running board: RCL from a saved
 image (as `rcl --image` starts; the board side is the same INSTALL as the
 screens' load ends with), the first command, the wheels at rest, RCL's
-counters read, the link closed as rcl leaves. The counts are compared
-exactly: a board reset to its power-on state drives the same first move.
+counters read, the link closed as rcl leaves. A board reset to its
+power-on state drives the same first move, but for one thing a reset
+cannot undo: the robot stands where the last move left it, each wheel
+somewhere within an encoder count, so a move's count may come out 1
+higher or lower (the simulated board's wheel keeps its fraction of a
+count, the motor model its quadrature edges). Without the reset the
+sessions failed outright or read the last host's counts on top (29, 59,
+89, ...).
 Waits are bounded generously (a loaded machine) and assert nothing of the
 wall clock.
 """
@@ -115,9 +121,16 @@ def session(where, image, command=FIRST):
     m = rcl.open(port=where, image=image)
     try:
         left, right = (int(x) for x in m.evaluate(command + READ).split())
+    except rcl.ForthError as e:       # say what the link saw (a loaded machine: Link lost)
+        raise AssertionError("%s; %s" % (e.message, m.board.status())) from None
     finally:
         m.board.close()
     return left, right
+
+
+def within_a_count(counts, first):
+    """The same move from rest: each wheel within the count it stood in."""
+    return all(abs(a - b) <= 1 for a, b in zip(counts, first))
 
 
 # ------------------------------------------------------------------- raw
@@ -138,36 +151,68 @@ class Raw:
         else:
             os.write(self.fd, data)
 
-    def frames(self, seconds):
-        """Every frame that comes within `seconds`."""
+    def frames(self, seconds, until=None):
+        """Every frame that comes within `seconds`, or up to the first for
+        which until(frame) is true."""
         got, end = [], time.monotonic() + seconds
         while time.monotonic() < end:
-            if select.select([self.fd], [], [], 0.02)[0]:
+            if select.select([self.fd], [], [], 0.01)[0]:
                 data = self.sock.recv(4096) if self.sock else os.read(self.fd, 4096)
                 if not data:
                     break
-                got += self.reader.feed(data)
+                for f in self.reader.feed(data):
+                    got.append(f)
+                    if until is not None and until(f):
+                        return got
         return got
 
     def hello(self):
-        """HELLO until IDENTIFY; -> the frames that came after it (none yet)."""
+        """HELLO until IDENTIFY (a bound of 10 s, for a broken board); -> it."""
         for _ in range(100):
             self.send(P.frame(0, "HELLO", version=P.VERSION))
-            for f in self.frames(0.1):
-                if f.name == "IDENTIFY":
-                    self.seq = 1
-                    return
+            got = self.frames(0.1, lambda f: f.name == "IDENTIFY")
+            if got and got[-1].name == "IDENTIFY":
+                self.seq = 1
+                self.lockstep = bool(got[-1]["flags"] & P.FLAG_LOCKSTEP)
+                return got[-1]
         raise AssertionError("no IDENTIFY")
 
     def ask(self, name, /, **values):
         """A sequenced frame, sent until its answer comes; -> the answer."""
         seq, self.seq = self.seq, P.following(self.seq)
-        for _ in range(200):
+
+        def answer(f):
+            return "ack" in f.values and f["ack"] == seq
+        for _ in range(100):
             self.send(P.frame(seq, name, **values))
-            for f in self.frames(0.05):
-                if "ack" in f.values and f["ack"] == seq:
-                    return f
+            got = self.frames(0.1, answer)
+            if got and answer(got[-1]):
+                return got[-1]
         raise AssertionError("no answer to %s" % name)
+
+    def ticks(self, seconds=5.0):
+        """Frames up to the first TICK (a lockstep board's time runs only
+        when the host WAITs for it; firmware ignores WAIT)."""
+        got, end = [], time.monotonic() + seconds
+        while time.monotonic() < end and not [f for f in got if f.name == "TICK"]:
+            self.send(P.frame(0, "WAIT", tick=0xFFFF))
+            got += self.frames(0.01, lambda f: f.name == "TICK")
+        return got
+
+    def rest(self, ms):
+        """Let `ms` of board time pass (a lockstep board's by CLOCK, any
+        other's read from its HEARTBEATs); -> the frames that came."""
+        if self.lockstep:
+            self.ask("CLOCK", us=ms * 1000)
+            return self.frames(0.2)
+        got, end = [], time.monotonic() + 10 + ms / 100
+        beats = []
+        while time.monotonic() < end:
+            got += self.frames(0.05)
+            beats = [f["time_us"] for f in got if f.name == "HEARTBEAT"]
+            if beats and (beats[-1] - beats[0]) % 2**32 >= ms * 1000:
+                break
+        return got
 
     def close(self):
         if self.sock:
@@ -217,10 +262,13 @@ def hostile(raw, seed, frames=120):
         raw.ask("FAR_STORE", seg=0, off=off, value=byte)
     raw.ask("SNAPSHOT", ops=[(0, 0x88, MOTORS_ON)])
     raw.ask("OUT16", port=0xFF32, value=0)                  # unmasked
+    raw.ask("OUT16", port=0xFF62, value=3)                  # timer 2 prescales by 3
+    raw.ask("OUT16", port=0xFF66, value=0xC001)
     raw.ask("OUT16", port=0xFF52, value=6667)
+    raw.ask("OUT16", port=0xFF50, value=0)
     raw.ask("OUT16", port=0xFF56, value=0xE009)            # EN INH INT P CONT
     raw.ask("OUT8", port=0x88, value=MOTORS_ON)
-    ticks = [f for f in raw.frames(0.3) if f.name == "TICK"]
+    ticks = [f for f in raw.ticks() if f.name == "TICK"]
     assert ticks and ticks[-1]["off"] == 0x1234            # the board ran the hostile tick
 
 
@@ -231,8 +279,8 @@ def test_twenty_sessions_on_one_running_board_each_drive_the_first_commands_coun
     b = board(kind)
     first = session(b.where, image)
     assert all(abs(c - 29) <= 2 for c in first)        # 1 inch: 28.4 counts, and the run-out
-    later = [session(b.where, image) for _ in range(SESSIONS - 1)]
-    assert later == [first] * (SESSIONS - 1)
+    for _ in range(SESSIONS - 1):
+        assert within_a_count(session(b.where, image), first)
 
 
 @pytest.mark.parametrize("kind", ["tcp", "native", "uno"])
@@ -242,15 +290,16 @@ def test_a_session_after_a_hostile_client_starts_clean_and_its_first_move_is_exa
     clean = session(b.where, image)
     raw = b.raw()
     hostile(raw, seed=18)
+    raw.close()                                   # gone, leaving the wheels running
+    raw = b.raw()
     raw.hello()                                   # a new session: nothing of the last runs
-    after = raw.frames(0.5)
+    after = raw.rest(400)                         # (and the wheels come to rest)
     assert not [f for f in after if f.name == "TICK"]
     beats = [f for f in after if f.name == "HEARTBEAT"]
     assert beats and not any(f["ticking"] for f in beats)
     assert raw.ask("FAR_FETCH", seg=0, off=0x73)["value"] == 0xF0     # INT 1Ch: the BIOS's
-    hostile(raw, seed=19)
     raw.close()
-    assert session(b.where, image) == clean
+    assert within_a_count(session(b.where, image), clean)
 
 
 def test_the_second_rcl_on_a_running_rcl_board_exits_0(board):
@@ -307,7 +356,7 @@ def test_a_client_that_connects_and_says_nothing_is_dropped_when_a_host_asks(boa
     b = board("tcp")
     raw = b.raw()                                  # connects, sends nothing
     time.sleep(0.3)                                # (past the watchdog's 250 ms)
-    assert session(b.where, image) == session(b.where, image)
+    assert within_a_count(session(b.where, image), session(b.where, image))
     raw.close()
 
 

@@ -120,6 +120,8 @@ def serve_tcp(server, address, stop, status):
                         or served.replaced_by(listener, server, newcomer), on_idle="close")
         if newcomer:
             server.hang_up()                      # the silent host is dropped
+        for sock, _ in served.refused:
+            sock.close()
         conn.close()
         conn = newcomer[0] if newcomer else None
     listener.close()
@@ -148,9 +150,11 @@ class Served:
         self.linger()
         if not select.select([listener], [], [], 0)[0]:
             return False
+        if select.select([self.conn], [], [], 0)[0] and not self.gone():
+            return False                  # what the host served sent, read first
         other = accept(listener)
         heard = max(self.since, server.last_valid or 0.0)
-        if time.monotonic() - heard > P.WATCHDOG_MS / 1000:
+        if self.gone() or time.monotonic() - heard > P.WATCHDOG_MS / 1000:
             newcomer.append(other)
             return True
         try:
@@ -161,6 +165,15 @@ class Served:
             pass
         self.refused.append((other, time.monotonic() + self.LINGER))
         return False
+
+    def gone(self):
+        """The host served has closed its end (its EOF not read yet)."""
+        try:
+            return self.conn.recv(1, socket.MSG_PEEK | socket.MSG_DONTWAIT) == b""
+        except (BlockingIOError, InterruptedError):
+            return False
+        except OSError:
+            return True
 
     def linger(self):
         keep = []
