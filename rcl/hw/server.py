@@ -139,6 +139,7 @@ class BoardServer:
         self.host_at = self.host_us = None   # lockstep: where the host's CLOCK put the board
         self.hello_at = None                 # ... and the host's time 0 (for the tests)
         self.watchdog_at = self.last_valid_clock = None   # board times, for tests
+        self.quiet_at = None                 # wall time the host was last given up
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
                       "watchdog": 0, "hangups": 0, "sessions": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
@@ -233,6 +234,7 @@ class BoardServer:
         """The host has gone: relays open, timer 0 no longer interrupts (no
         TICK into a host that is not there), board time runs free."""
         self.board.tick_failed()
+        self.quiet_at = time.monotonic()     # (bench/relays_off.py)
         self.safe, self.in_session = True, False
         self.awaiting, self.done = None, False
         self.clock.release()
