@@ -13,7 +13,9 @@ time S, for S seconds or for good; on TCP the connection is closed and
 new ones wait until the cut ends), --stall left|right, --speak-version N
 (answer HELLO with another protocol version). --report FILE writes, at
 exit, a JSON of the board's wheel counts, pose, counters and port log.
-SIGTERM or SIGINT stops it (exit 0).
+SIGTERM or SIGINT stops it (exit 0). It serves one host at a time: over
+TCP another is refused `busy` unless the one served has been silent for
+the watchdog's 250 ms (docs/protocol.md, section 6).
 """
 import argparse
 import json
