@@ -375,3 +375,31 @@ def test_a_host_that_hangs_up_leaves_the_relays_open_at_once_not_by_the_watchdog
     stats = json.loads(report.read_text())
     assert stats["relays"][0] == 0
     assert stats["stats"]["hangups"] == 1 and stats["stats"]["watchdog"] == 0
+
+
+# ------------------------------------------------------------ reconnecting
+def test_a_reconnect_is_a_new_session_and_rcl_sets_the_board_up_again():
+    m = rcl.open(port="rclsim://")
+    server = m.board.port.server
+    try:
+        m.evaluate(": LEG  RERB 3 INCHES FORWARD ;  LEG")
+        server.cut_link()
+        end = time.monotonic() + 10
+        while not m.board.lost and time.monotonic() < end:
+            time.sleep(0.01)
+        server.cut_link(False)
+        time.sleep(0.6)                                  # past RECONNECT_AFTER
+        # the next command reconnects, and stops, saying the board was reset
+        # (a move would stop at its check: " Control loop not running ")
+        with pytest.raises(rcl.ForthError) as e:
+            m.evaluate("138 PC@ .")
+        assert e.value.screen() == " Link up again, the board reset: RECONNECT sets it up "
+        assert server.stats["sessions"] == 2 and not server.ticking()
+        assert m.evaluate("RECONNECT").startswith(" Link up")
+        assert server.stats["sessions"] == 3 and server.ticking()     # INSTALL ran again
+        moved = [int(x) for x in m.evaluate("LEG 300 MS ?CNT1 D. ?CNT2 D.").split()]
+        # counted from 0 again: 3 inches, 85 counts, within a move's 2 counts
+        # (test_link_serve) and the count the wheel stood in
+        assert all(abs(c - 85) <= 3 for c in moved), moved
+    finally:
+        m.board.close()
