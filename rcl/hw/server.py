@@ -128,7 +128,7 @@ class BoardServer:
         self.window = {}             # seq -> frame, for NAK
         self.last_reply = None
         self.last_valid = None       # board clock of the last good host frame
-        self.safe = True             # relays forced off by the watchdog
+        self.safe = True             # the host given up (watchdog, hang-up): relays forced off
         self.in_session = False      # a good frame came since the host last went
         self.last_sent = 0.0
         self.started = time.monotonic()
@@ -142,8 +142,8 @@ class BoardServer:
         self.quiet_at = None                 # wall time the host was last given up
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
-                      "watchdog": 0, "hangups": 0, "sessions": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
-                      "bytes_out": 0}
+                      "watchdog": 0, "hangups": 0, "sessions": 0, "ticks_sent": 0,
+                      "late": 0, "bytes_in": 0, "bytes_out": 0}
         self.lateness = []           # seconds each tick was serviced after its time
 
     # ----------------------------------------------------------- the loop
@@ -387,7 +387,6 @@ class BoardServer:
             self.hello_at = start
 
     # ------------------------------------------------- lockstep, no ticks
-
     def host_time(self, us):
         """CLOCK: the host's time is `us` (mod 2**32) since HELLO; the
         board comes up to it, running whatever falls due on the way (a
