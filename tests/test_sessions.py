@@ -323,7 +323,7 @@ def test_rcl_leaving_leaves_the_board_safe_and_its_tick_stopped():
     assert server.stats["watchdog"] == 0
 
 
-def test_a_silent_host_leaves_the_board_quiet_on_every_board(board):
+def test_a_silent_host_leaves_rcl_board_and_the_native_firmware_quiet(board):
     for kind in ("tcp", "native"):
         raw = board(kind).raw()
         hostile(raw, seed=5)                          # ticking, motors on
@@ -355,7 +355,7 @@ def test_a_second_host_is_refused_naming_the_cause_and_rcl_says_so(board, image)
 def test_a_client_that_connects_and_says_nothing_is_dropped_when_a_host_asks(board, image):
     b = board("tcp")
     raw = b.raw()                                  # connects, sends nothing
-    time.sleep(0.3)                                # (past the watchdog's 250 ms)
+    time.sleep(0.5)                                # (past the watchdog's 250 ms)
     assert within_a_count(session(b.where, image), session(b.where, image))
     raw.close()
 
