@@ -195,6 +195,9 @@ def open_on_link(args, write):
     except LinkError as e:
         sys.stderr.write("rcl: %s\n" % e)
         raise SystemExit(2) from None
+    except rcl.ForthError as e:          # e.g. Link lost while RCL loads: said, not "internal"
+        sys.stderr.write("rcl: loading RCL onto the board: %s\n" % e)
+        raise SystemExit(2) from None
 
 
 def list_ports():
