@@ -65,6 +65,8 @@ class Board:
       tick_failed()        the tick handler failed: motors off, no more
                            ticks until the software sets the timer again
       reconnect()          a board on a link: connect again (RECONNECT)
+      close()              leaving: a board on a link is left safe and quiet
+                           (no tick) and its port closed
     Time of day
       time_of_day() -> (ticks, per_day)   the BIOS's count since midnight
       set_time_of_day(ticks)
@@ -132,6 +134,9 @@ class Board:
     # -------------------------------------------------------------- safety
     def stop_motors(self):
         """Every motor and relay off."""
+
+    def close(self):
+        """Leaving rcl: nothing to do for a board in this process."""
 
     def tick_failed(self):
         """The interrupt handler failed: motors off and, on a board that

@@ -206,6 +206,9 @@ def open_on_link(args, write):
     except (LinkError, rcl.ForthError) as e:
         sys.stderr.write("rcl: %s\n" % e)
         raise SystemExit(2) from None
+    except rcl.ForthError as e:          # e.g. Link lost while RCL loads: said, not "internal"
+        sys.stderr.write("rcl: loading RCL onto the board: %s\n" % e)
+        raise SystemExit(2) from None
 
 
 def list_ports():
@@ -378,6 +381,7 @@ def robot_safe_at_exit(m):
         except BaseException:             # noqa: B036  still stop the motors
             pass
         m.board.stop_motors()
+        m.board.close()                   # a board on a link: its tick stopped too
 
 
 # -------------------------------------------------------------------- main

@@ -222,6 +222,9 @@ static void act(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
 
 static void hello(void)
 {
+    /* a new session: the board as at power-on before the host hears
+     * IDENTIFY, nothing of the last host left (docs/protocol.md, "Sessions") */
+    board_power_on();
     k.expected = 1;
     k.send_seq = 1;
     k.last_reply.len = 0;
@@ -351,7 +354,7 @@ void link_poll(void)
     /* the watchdog counts board time: a native board holding its time
      * for a host that is late (a busy machine) does not count the wait */
     if (!k.watchdog_tripped && hal_micros() - k.last_valid_board_us >= WATCHDOG_US) {
-        board_safe();               /* section 6: the host is silent */
+        board_tick_failed();        /* section 6: the host is silent: safe, no tick */
         k.watchdog_tripped = 1;
         hal_note(NOTE_SILENCE, now - k.last_valid_us);            /* link clock */
         hal_note(NOTE_WATCHDOG, hal_micros() - k.last_valid_board_us);   /* board time */

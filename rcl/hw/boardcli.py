@@ -14,7 +14,9 @@ time S, for S seconds or for good; on TCP the connection is closed and
 new ones wait until the cut ends), --stall left|right, --speak-version N
 (answer HELLO with another protocol version). --report FILE writes, at
 exit, a JSON of the board's wheel counts, pose, counters and port log.
-SIGTERM or SIGINT stops it (exit 0).
+SIGTERM or SIGINT stops it (exit 0). It serves one host at a time: over
+TCP another is refused `busy` unless the one served has been silent for
+the watchdog's 250 ms (docs/protocol.md, section 6).
 """
 import argparse
 import json
@@ -94,31 +96,114 @@ class Status:
 
 def serve_pty(server, stop, status):
     master, slave = os.openpty()
-    tty.setraw(slave)
+    tty.setraw(slave)                 # (kept while the master is open)
     print(os.ttyname(slave), flush=True)
+    os.close(slave)                   # so that a host's hang-up reads EIO at once
     while not stop():
         server.serve_fd(master, lambda: stop() or status("pty") or False)
 
 
+BUSY = "busy: another host is connected"
+
+
 def serve_tcp(server, address, stop, status):
+    """One host at a time. Another that connects meanwhile is refused
+    (REFUSED with SEQ 0, BUSY, then the connection closed), unless the
+    one served has sent nothing for the watchdog's 250 ms: that one is
+    dropped and the newcomer served."""
     family = socket.AF_INET6 if ":" in address[0] else socket.AF_INET
     listener = socket.socket(family, socket.SOCK_STREAM)
     listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     listener.bind(address)
-    listener.listen(1)
+    listener.listen(4)
     print("listening on %s:%d" % listener.getsockname()[:2], flush=True)
+    conn = None
     while not stop():
-        status("waiting")
-        server.run_until(server.clock.now())
-        server.take_output()                  # nobody to hear it
-        if server.cut() or not select.select([listener], [], [], 0.005)[0]:
-            continue
-        conn, _ = listener.accept()
-        conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        server.serve_fd(conn.fileno(), lambda: stop() or status("connected") or False,
-                        on_idle="close")
+        if conn is None:
+            status("waiting")
+            server.run_until(server.clock.now())
+            server.watchdog(time.monotonic())
+            server.take_output()                  # nobody to hear it
+            if server.cut() or not select.select([listener], [], [], 0.005)[0]:
+                continue
+            conn = accept(listener)
+        served = Served(conn)
+        newcomer = []
+        server.serve_fd(conn.fileno(), lambda: stop() or status("connected")
+                        or served.replaced_by(listener, server, newcomer), on_idle="close")
+        if newcomer:
+            server.hang_up()                      # the silent host is dropped
+        for sock, _ in served.refused:
+            sock.close()
         conn.close()
+        conn = newcomer[0] if newcomer else None
     listener.close()
+
+
+def accept(listener):
+    conn, _ = listener.accept()
+    conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    return conn
+
+
+class Served:
+    """The connection being served, and what to do with another."""
+
+    LINGER = 1.0          # seconds a refused connection is read from before it is closed
+
+    def __init__(self, conn):
+        self.conn, self.since = conn, time.monotonic()
+        self.refused = []          # (socket, when to close it)
+
+    def replaced_by(self, listener, server, newcomer):
+        """True when a new connection should take this one's place (put in
+        newcomer); a newcomer refused is told why, then closed a little
+        later (closed with its HELLO unread, it could get a reset instead
+        of the reason)."""
+        self.linger()
+        if not select.select([listener], [], [], 0)[0]:
+            return False
+        if select.select([self.conn], [], [], 0)[0] and not self.gone():
+            return False                  # what the host served sent, read first
+        other = accept(listener)
+        heard = max(self.since, server.last_valid or 0.0)
+        if self.gone() or time.monotonic() - heard > P.WATCHDOG_MS / 1000:
+            newcomer.append(other)
+            return True
+        try:
+            other.sendall(P.frame(0, "REFUSED", ack=0, reason=BUSY))
+            other.shutdown(socket.SHUT_WR)
+            other.setblocking(False)
+        except OSError:
+            pass
+        self.refused.append((other, time.monotonic() + self.LINGER))
+        return False
+
+    def gone(self):
+        """The host served has closed its end (its EOF not read yet)."""
+        try:
+            return self.conn.recv(1, socket.MSG_PEEK | socket.MSG_DONTWAIT) == b""
+        except (BlockingIOError, InterruptedError):
+            return False
+        except OSError:
+            return True
+
+    def linger(self):
+        keep = []
+        for sock, until in self.refused:
+            try:
+                while sock.recv(4096):
+                    pass
+                gone = True                 # the newcomer closed its end
+            except (BlockingIOError, InterruptedError):
+                gone = False
+            except OSError:
+                gone = True
+            if gone or time.monotonic() > until:
+                sock.close()
+            else:
+                keep.append((sock, until))
+        self.refused = keep
 
 
 def report(server, path):

@@ -32,9 +32,10 @@ import serial
 from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
-from rcl.i80188 import PCB_BASE
+from rcl.i80188 import INH, PCB_BASE
 
 US = CLOCK_HZ // 1_000_000
+T0_STOPPED = INH             # T0CON: EN off (INH set to write it), INT off: no tick
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost (silence_clock's)
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
@@ -98,7 +99,9 @@ class LinkBoard(Board):
             self.reader = threading.Thread(target=self.read_loop, daemon=True,
                                            name="rcl-link-reader")
             self.reader.start()
-        ident = self.hello(HELLO_WAIT if reopen else 0.5)
+        # (the port kept: a board that only went silent gets what any
+        # request gets, not half a second, too little on a loaded machine)
+        ident = self.hello(HELLO_WAIT if reopen else REQUEST_GIVE_UP)
         if ident["version"] != P.VERSION:
             self.close()
             raise P.LinkError("The board speaks protocol version %d; this rcl speaks "
@@ -121,10 +124,15 @@ class LinkBoard(Board):
         while time.monotonic() < deadline:
             self.send(P.frame(0, "HELLO", version=P.VERSION))
             try:
-                return self.identify.get(timeout=0.1)
+                ident = self.identify.get(timeout=0.1)
             except queue.Empty:
                 if self.lost and self.why.startswith("port"):
                     break
+                continue
+            if "reason" in ident:                 # REFUSED, SEQ 0: no session for us
+                raise P.LinkError("The board on %s refused a session: %s"
+                                  % (self.port_name(), ident["reason"]))
+            return ident
         raise P.LinkError("No answer from a board on %s (is rcl-board or the "
                           "firmware running, at 115200 baud?)" % self.port_name())
 
@@ -132,6 +140,15 @@ class LinkBoard(Board):
         return getattr(self.port, "portstr", None) or getattr(self.port, "port", "?")
 
     def close(self):
+        """Leaving: a board that still hears is left safe and quiet (SAFE,
+        then timer 0 stopped), then the port closed."""
+        if self.port is not None and not self.lost and self.machine is not None \
+                and self.reader is not threading.current_thread():
+            try:
+                self.request("SAFE")
+                self.request("OUT16", port=PCB_BASE + 0x56, value=T0_STOPPED)
+            except (P.LinkError, serial.SerialException, OSError):
+                pass
         self.stopping.set()
         if self.port is None:
             return
@@ -207,6 +224,9 @@ class LinkBoard(Board):
         self.last_rx = self.silence_clock()
         if f.name == "IDENTIFY":
             self.expected, self.held = 1, {}
+            self.identify.put(f.values)
+            return
+        if f.name == "REFUSED" and f.seq == 0:      # a HELLO refused (a busy board)
             self.identify.put(f.values)
             return
         d = P.newer(f.seq, self.expected)
@@ -306,6 +326,10 @@ class LinkBoard(Board):
             self.lost, self.lost_at, self.why = True, time.monotonic(), str(e)
             self.machine.request_stop(link_lost())   # taken at the next primitive boundary
             return False
+        # A new session: the board is as at power-on, so the word that was
+        # running cannot go on as if nothing had happened.
+        self.machine.request_stop(ForthError(-292, "Link up again, the board reset: "
+                                             "RECONNECT sets it up"))
         return True
 
     def io(self, name, /, wait=True, **values):
@@ -458,7 +482,10 @@ class LinkBoard(Board):
                     if self.lockstep and time.monotonic() - waited > P.RETRY_MS / 1000:
                         waited = time.monotonic()
                         self.send(P.frame(0, "WAIT", tick=self.next_tick()))
-                    if self.lost:                 # (the reader judges the silence)
+                    # Silence is the reader thread's to judge, after it has
+                    # read what waits: a process that was not scheduled for a
+                    # while would find last_rx old here with frames unread.
+                    if self.lost:
                         raise LinkLost(self.why or "no tick") from None
         except LinkLost as e:
             self.lose(str(e))

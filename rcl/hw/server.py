@@ -22,6 +22,11 @@ set the board up land where the simulation has them. What the served
 board does then depends on the frames only, not on how fast the host or
 the line is. A real board cannot wait; `lockstep=False` (rcl-board
 --free-running) behaves as one.
+Sessions (docs/protocol.md, "Sessions"): HELLO puts the board as at
+power-on before IDENTIFY, so a host never meets what the last one left;
+a host that goes (its connection closed, a pty hung up: at once; silent:
+the watchdog's 250 ms) leaves it safe and quiet, relays open and timer 0
+no longer interrupting.
 Faults for tests and demonstrations: a byte corruption rate on both
 directions, a cut of the link (silence, or for TCP a closed connection)
 at a time for a time, a stalled wheel.
@@ -125,7 +130,8 @@ class BoardServer:
         self.last_reply = None
         self.last_valid = None       # board clock of the last good host frame
         self.looked_at = time.monotonic()   # the watchdog's last look
-        self.safe = True             # relays forced off by the watchdog
+        self.safe = True             # the host given up (watchdog, hang-up): relays forced off
+        self.in_session = False      # a good frame came since the host last went
         self.last_sent = 0.0
         self.started = time.monotonic()
         self.lockstep = lockstep     # board time waits for each tick's TICK_DONE
@@ -135,10 +141,11 @@ class BoardServer:
         self.host_at = self.host_us = None   # lockstep: where the host's CLOCK put the board
         self.hello_at = None                 # ... and the host's time 0 (for the tests)
         self.watchdog_at = self.last_valid_clock = None   # board times, for tests
+        self.quiet_at = None                 # wall time the host was last given up
         self.out = bytearray()
         self.stats = {"acted": 0, "refused": 0, "duplicates": 0, "naks": 0,
-                      "watchdog": 0, "ticks_sent": 0, "late": 0, "bytes_in": 0,
-                      "bytes_out": 0}
+                      "watchdog": 0, "hangups": 0, "sessions": 0, "ticks_sent": 0,
+                      "late": 0, "bytes_in": 0, "bytes_out": 0}
         self.lateness = []           # seconds each tick was serviced after its time
 
     def board_seconds(self):
@@ -162,7 +169,6 @@ class BoardServer:
         if not self.lockstep or self.safe:
             c.catch_up(now)        # (in lockstep, serving a host, by ticks and frames only)
         wall = time.monotonic()
-        self.watchdog(wall)
         if wall - self.last_sent >= P.HEARTBEAT_MS / 1000:
             self.send("HEARTBEAT", time_us=(c.clock // US) & 0xFFFFFFFF,
                       ticking=int(self.ticking()))
@@ -196,6 +202,7 @@ class BoardServer:
         self.stats["bytes_in"] += len(data)
         for f in self.reader.feed(self.garble(data)):
             self.handle(f)
+        self.watchdog(time.monotonic())
 
     def take_output(self):
         """Bytes to send to the host now (nothing while the link is cut)."""
@@ -216,24 +223,37 @@ class BoardServer:
 
     # ------------------------------------------------------------ safety
     def watchdog(self, wall):
-        """No valid frame from the host for WATCHDOG_MS: safe state, and
-        the clock goes on without waiting for the host. Looked at every
-        turn of the serving loop (5 ms at most); a longer gap since the
-        last look is a stall of this board (a busy host kept its thread or
-        process waiting), in which it could hear nothing: only 20 ms of it
-        count as the host's silence."""
+        """No valid frame from the host for WATCHDOG_MS: safe and quiet.
+        Looked at every turn of the serving loop (5 ms at most), after the
+        bytes waiting are taken; a longer gap since the last look is a stall
+        of this board (a busy host kept its thread or process waiting), in
+        which it could hear nothing: only 20 ms of it count as the host's
+        silence."""
         stalled = wall - self.looked_at - STALL
         self.looked_at = wall
         if self.last_valid is not None and stalled > 0:
             self.last_valid += stalled
         if self.last_valid is not None and not self.safe \
                 and wall - self.last_valid > P.WATCHDOG_MS / 1000:
-            self.board.stop_motors()
-            self.safe = True
             self.stats["watchdog"] += 1
             self.watchdog_at = self.clock.now()
-            self.awaiting = None
-            self.clock.release()
+            self.quiet()
+
+    def hang_up(self):
+        """The host's end closed (TCP) or hung up (pty): safe and quiet at
+        once, not 250 ms later."""
+        if self.in_session:
+            self.stats["hangups"] += 1
+            self.quiet()
+
+    def quiet(self):
+        """The host has gone: relays open, timer 0 no longer interrupts (no
+        TICK into a host that is not there), board time runs free."""
+        self.board.tick_failed()
+        self.quiet_at = time.monotonic()     # (bench/relays_off.py)
+        self.safe, self.in_session = True, False
+        self.awaiting, self.done = None, False
+        self.clock.release()
 
     def ticking(self):
         """Timer 0 interrupts, unmasked, into INT 1Ch in the Forth segment."""
@@ -274,13 +294,9 @@ class BoardServer:
     def handle(self, f):
         self.last_valid = time.monotonic()
         self.last_valid_clock = self.clock.now()
-        self.safe = False
+        self.safe, self.in_session = False, True
         if f.name == "HELLO":
-            self.expected, self.send_seq, self.window = 1, 1, {}
-            self.awaiting = None
-            self.clock.release()
-            if self.lockstep:
-                self.follow_host()
+            self.new_session()
             self.out += P.frame(0, "IDENTIFY", version=self.version, tick_us=10_000,
                                 flags=P.FLAG_LOCKSTEP if self.lockstep else 0, name=self.name)
             return
@@ -361,22 +377,32 @@ class BoardServer:
             self.clock.release()
         self.reply("ACK", ack=f.seq)
 
-    # ------------------------------------------------- lockstep, no ticks
-    def follow_host(self):
-        """HELLO on a lockstep board whose timer 0 does not tick: its time
-        stands still, on the next multiple of ALIGN, the host's time 0,
-        and from there moves by CLOCK. (A board that ticks, to a host
-        reconnecting, goes on as it was: its ticks hold it.)"""
+    # ------------------------------------------------------------ sessions
+    def new_session(self):
+        """HELLO: a new host. Before it hears IDENTIFY the board is as at
+        power-on (SimBoard.power_on: relays open, timers, 8253s, vectors
+        and BIOS data new; the robot where it stands), with no script and
+        the sequences reset: nothing the last host left can run. A lockstep
+        board's time then stands still on the next multiple of ALIGN, the
+        host's time 0, and moves by CLOCK until timer 0 ticks."""
+        self.stats["sessions"] += 1
+        self.expected, self.send_seq, self.window = 1, 1, {}
+        self.last_reply, self.script = None, []
+        self.awaiting, self.done = None, False
         self.host_at = None
-        if self.ticking():
-            return
-        start = -(-self.clock.now() // ALIGN) * ALIGN
-        self.run_until(start)
+        self.clock.release()
+        start = self.clock.now()
+        if self.lockstep:
+            start = -(-start // ALIGN) * ALIGN
+        self.board.stop_motors()                 # relays open now, not at `start`
         self.clock.catch_up(start)
-        self.clock.hold()
-        self.host_at, self.host_us = start, 0
-        self.hello_at = start
+        self.board.power_on()
+        if self.lockstep:
+            self.clock.hold()
+            self.host_at, self.host_us = start, 0
+            self.hello_at = start
 
+    # ------------------------------------------------- lockstep, no ticks
     def host_time(self, us):
         """CLOCK: the host's time is `us` (mod 2**32) since HELLO; the
         board comes up to it, running whatever falls due on the way (a
@@ -398,7 +424,8 @@ class BoardServer:
     def serve_fd(self, fd, stop, on_idle=None):
         """Serve the stream on file descriptor fd until stop() is true or
         the peer goes away (-> "closed"); a pty's master reads EIO while
-        no one has the device open, which is waited out."""
+        no one has the device open, which is waited out. Either end of a
+        host (EOF, EIO) is a hang-up: safe and quiet at once."""
         while not stop():
             r, _, _ = select.select([fd], [], [], self.timeout())
             if r:
@@ -406,12 +433,15 @@ class BoardServer:
                     data = os.read(fd, 4096)
                 except OSError:                   # pty: nobody on the other end
                     data = None
+                    self.hang_up()
                     time.sleep(0.005)
                 if data == b"":
+                    self.hang_up()
                     return "closed"
                 if data:
                     self.receive(data)
             self.run_until(self.clock.now())
+            self.watchdog(time.monotonic())
             if self.cut() and on_idle == "close":
                 return "cut"
             out = self.take_output()

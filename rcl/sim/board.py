@@ -545,6 +545,28 @@ class SimBoard(Board):
         self.motor_latch = 0
         self.aux_latch &= ~(C.ARM_ON | C.GRIP_ON | C.BEEPER)
 
+    def power_on(self):
+        """A reset, as a new session on a served board has it: the
+        electronics as at power-on (relays open, the 80188's timers and
+        interrupt controller as the BIOS leaves them, both 8253s unset, the
+        vector table and BIOS data area new) from now, the physics brought
+        up to now first; the robot itself stays where it stands."""
+        now = self.pcb_time()
+        self.stop_motors()
+        self.aux_latch = 0
+        self.pcb = Timer80188.power_on(now)
+        self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
+        self.encoders = (self.chips[C.LEFT_8253].counters[1:]
+                         + self.chips[C.RIGHT_8253].counters[1:])
+        self.clk0 = {base: now * C.F_8253_CLK // CLOCK_HZ for base in self.chips}
+        self.writers, self.readers = self._port_map()
+        self.refs = (0.0, 0.0)
+        self.low = bytearray(LOW_RAM)
+        self._power_on_bios()
+        self.ticks = 0
+        self.quiet, self.handler_cost = False, None
+        self.refresh_due()
+
     def tick_failed(self):
         """The INT 1Ch handler failed: relays open, and timer 0 no longer
         interrupts (its INT bit cleared, as INT-OFF does) until the software

@@ -67,4 +67,16 @@ def get_cs(m):
 @prim("RECONNECT", "( -- ) connect again to a board whose link was lost; "
       "say how it went", kind="call")
 def reconnect(m):
-    m.type(" %s " % m.board.reconnect())
+    said = m.board.reconnect()
+    m.type(" %s " % said)
+    if said.startswith("Link up"):
+        set_up_again(m)
+
+
+def set_up_again(m):
+    """A new session finds the board as at power-on (docs/protocol.md,
+    "Sessions"): if RCL had been installed, INSTALL again (it programs the
+    timer, the vector and the counters anew)."""
+    installed, install = m.dictionary.find("INSTALLED"), m.dictionary.find("INSTALL")
+    if installed and install and m.memory.fetch((installed[0] + 2) & MASK):
+        m.execute(install[0])
