@@ -68,7 +68,8 @@ class SimBoard(Board):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
         self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
-        self.left, self.right = self.chips[C.LEFT_8253], self.chips[C.RIGHT_8253]
+        self.encoders = (self.chips[C.LEFT_8253].counters[1:]      # the wheels' CLK1 CLK2
+                         + self.chips[C.RIGHT_8253].counters[1:])
         self.clk0 = {C.LEFT_8253: 0, C.RIGHT_8253: 0}   # 125 kHz pulses delivered
         self.drive = Drive()
         self.motor_latch = 0
@@ -144,13 +145,14 @@ class SimBoard(Board):
         are decoded apart; any other port floats."""
         writers, readers = {}, {}
         for base, chip in self.chips.items():
+            ref, fwd, rev = chip.counters
             writers[base] = functools.partial(self._write_reference, base)
             writers[base + 3] = functools.partial(self._write_control, base)
             readers[base] = functools.partial(self._read_reference, base)
             readers[base + 3] = self._read_control
-            for offset in (C.CTR_FORWARD, C.CTR_REVERSE):
-                writers[base + offset] = functools.partial(self._write_encoder, chip, offset)
-                readers[base + offset] = functools.partial(self._read_encoder, chip, offset)
+            for offset, counter in ((1, fwd), (2, rev)):
+                writers[base + offset] = functools.partial(self._write_encoder, counter)
+                readers[base + offset] = functools.partial(self._read_encoder, counter)
         writers[C.MOTOR_PORT] = functools.partial(self._latch, C.MOTOR_PORT)
         writers[C.AUX_PORT] = functools.partial(self._latch, C.AUX_PORT)
         readers[C.STATUS_PORT] = self._read_status
@@ -189,12 +191,12 @@ class SimBoard(Board):
 
     def _write_reference(self, base, byte, now):
         """Counter 0, the speed reference: a count's byte."""
-        chip = self.chips[base]
-        if not chip.write_acts(C.CTR_SPEED, byte):    # CLK may catch up later, as if before
-            chip.write(C.CTR_SPEED, byte)
+        counter = self.chips[base].counters[0]
+        if not counter.write_acts(byte):    # CLK may catch up later, as if before
+            counter.write(byte)
             return
         self._clock_ref(base, now)
-        if chip.write(C.CTR_SPEED, byte):
+        if counter.write(byte):
             self._new_references(now)
 
     def _write_control(self, base, byte, now):
@@ -212,21 +214,21 @@ class SimBoard(Board):
             self.sync_to(now)
             self.refs = refs
 
-    def _write_encoder(self, chip, offset, byte, now):
+    def _write_encoder(self, counter, byte, now):
         self.sync_to(now)
-        chip.write(offset, byte)
+        counter.write(byte)
 
     def _read_reference(self, base, now):
         self._clock_ref(base, now)
-        return self.chips[base].read(C.CTR_SPEED)
+        return self.chips[base].counters[0].read()
 
     def _read_control(self, now):
         return I8253.CONTROL_READ           # write-only
 
-    def _read_encoder(self, chip, offset, now):
-        if not chip.latched(offset):        # CE itself: the pulses up to now
+    def _read_encoder(self, counter, now):
+        if not counter.latched:             # CE itself: the pulses up to now
             self.sync_to(now)
-        return chip.read(offset)
+        return counter.read()
 
     def _read_status(self, now):
         self.sync_to(now)
@@ -285,14 +287,14 @@ class SimBoard(Board):
     def _clock_ref(self, base, now):
         """Bring counter 0 (the 125 kHz speed reference) up to now."""
         pulses = now * C.F_8253_CLK // CLOCK_HZ
-        self.chips[base].clock(C.CTR_SPEED, pulses - self.clk0[base])
+        self.chips[base].counters[0].clock(pulses - self.clk0[base])
         self.clk0[base] = pulses
 
     def references(self):
         """The two PLL reference frequencies, Hz (0 if not running)."""
         chips = self.chips
-        return (chips[C.LEFT_8253].frequency(C.CTR_SPEED, C.F_8253_CLK),
-                chips[C.RIGHT_8253].frequency(C.CTR_SPEED, C.F_8253_CLK))
+        return (chips[C.LEFT_8253].counters[0].frequency(C.F_8253_CLK),
+                chips[C.RIGHT_8253].counters[0].frequency(C.F_8253_CLK))
 
     # ----------------------------------------------------------- physics
     def sync(self):
@@ -341,15 +343,15 @@ class SimBoard(Board):
 
     def deliver(self, pulses):
         (lf, lr), (rf, rr) = pulses
-        left, right = self.left, self.right     # the wheels' pulses on CLK1 and CLK2
+        left_fwd, left_rev, right_fwd, right_rev = self.encoders
         if lf:
-            left.clock(C.CTR_FORWARD, lf)
+            left_fwd.clock(lf)
         if lr:
-            left.clock(C.CTR_REVERSE, lr)
+            left_rev.clock(lr)
         if rf:
-            right.clock(C.CTR_FORWARD, rf)
+            right_fwd.clock(rf)
         if rr:
-            right.clock(C.CTR_REVERSE, rr)
+            right_rev.clock(rr)
 
     # -------------------------------------------------------- interrupts
     def refresh_due(self):

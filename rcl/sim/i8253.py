@@ -382,27 +382,6 @@ class I8253:
             return False
         return self.counters[offset].write(byte)
 
-    def write_acts(self, offset, byte):
-        """Would `byte` written to counter `offset` now act on its counting
-        at once (Counter.write_acts)? A board that brings CLK up lazily
-        need not for a write that does not."""
-        return self.counters[offset].write_acts(byte)
-
-    def latched(self, offset):
-        """Counter `offset` holds a latched value not yet fully read (a read
-        gives that, whatever CLK did since)."""
-        return self.counters[offset].latched
-
-    # The pins: what the board wires to the chip besides the bus.
-    def clock(self, counter, n):
-        """n pulses on counter's CLK input."""
-        self.counters[counter].clock(n)
-
-    def frequency(self, counter, f_clk):
-        """The frequency of counter's OUT for a CLK of f_clk Hz (0.0 when
-        it does not run in a reload mode)."""
-        return self.counters[counter].frequency(f_clk)
-
     @classmethod
     def decode(cls, byte):
         """A control byte as (sc, rw, m, bcd), fields as written."""
