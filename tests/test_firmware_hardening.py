@@ -304,7 +304,10 @@ def test_a_300_foot_move_keeps_its_lag_from_start_to_end(board):
     print("\nlag over the first 512 cruise ticks %.2f counts, the last 512 %.2f (%d ticks)"
           % (early, late, cruise))
     assert cruise > 3000
-    assert 0 < early < 20 and abs(late - early) <= 1.5
+    # within the speed loop's own 2 counts of phase error (docs/firmware.md:
+    # its step pattern changes with the machine's load; measured 0 to 1.6),
+    # where the 10 ms tick moved the mean 4.2 counts between the windows
+    assert 0 < early < 20 and abs(late - early) <= 2
     assert within(got, (102_272, 102_272), 8)
 
 
