@@ -109,6 +109,20 @@ def hello(link):
     pytest.fail("no IDENTIFY")
 
 
+def ask(link, seq, name, **values):
+    """A sequenced frame, sent again every 100 ms until its answer comes
+    (a repeat is answered again, not acted on twice: section 3); -> the
+    answer. The 10 s bound is for a broken board, not a measure."""
+    for _ in range(100):
+        link.frame(seq, name, **values)
+        end = time.monotonic() + 0.1
+        while time.monotonic() < end:
+            f = link.receive(seconds=0.02)
+            if f is not None and "ack" in f.values and f["ack"] == seq:
+                return f
+    pytest.fail("no answer to %s" % name)
+
+
 def motor_notes(link, value):
     return [n for n in link.board.events("motor") if n["value"] == value]
 
@@ -133,7 +147,7 @@ def test_the_native_tick_is_10_0005_ms_not_10(raw):
     link = raw("--rate", "20")
     hello(link)
     ops = [(0, 0xFF52, 0x0B), (0, 0xFF53, 0x1A), (0, 0x88, 0x01)]     # 6667 = 0x1A0B
-    assert link.answer(1, "RUN", ops=ops).name == "RESULTS"
+    assert ask(link, 1, "RUN", ops=ops).name == "RESULTS"
     assert link.board.wait_for(lambda: motor_notes(link, 0x01))
     start = motor_notes(link, 0x01)[0]
     beat = {"us": start["us"]}
@@ -146,7 +160,7 @@ def test_the_native_tick_is_10_0005_ms_not_10(raw):
     assert link.board.wait_for(later, 300)
     before = len(link.board.events("motor"))
     for seq in range(2, 62):
-        assert link.answer(seq, "OUT8", port=0x88, value=0x05 if seq & 1 else 0x01).name == "ACK"
+        assert ask(link, seq, "OUT8", port=0x88, value=0x05 if seq & 1 else 0x01).name == "ACK"
     assert link.board.wait_for(lambda: len(link.board.events("motor")) >= before + 60)
     exact = ten_ms = 0
     for note in link.board.events("motor")[before:]:
@@ -161,10 +175,10 @@ def test_a_period_shorter_than_2_5_ms_ticks_every_2_5_ms(raw):
     # firmware's floor (config.h TICK_MIN_HALF_US), exactly
     link = raw("--rate", "5")
     hello(link)
-    assert link.answer(1, "RUN", ops=[(0, 0xFF52, 1), (0, 0xFF53, 0), (0, 0x88, 0x01)]).name \
+    assert ask(link, 1, "RUN", ops=[(0, 0xFF52, 1), (0, 0xFF53, 0), (0, 0x88, 0x01)]).name \
         == "RESULTS"
     link.board.wait_for(lambda: False, 1.0)
-    assert link.answer(2, "OUT8", port=0x88, value=0x05).name == "ACK"
+    assert ask(link, 2, "OUT8", port=0x88, value=0x05).name == "ACK"
     assert link.board.wait_for(lambda: motor_notes(link, 0x01) and motor_notes(link, 0x05))
     start, end = motor_notes(link, 0x01)[0], motor_notes(link, 0x05)[0]
     steps = (end["us"] - start["us"]) // 1000
@@ -175,26 +189,26 @@ def test_a_period_shorter_than_2_5_ms_ticks_every_2_5_ms(raw):
 def test_a_hello_without_its_version_byte_neither_answers_nor_restarts_the_session(raw):
     link = raw("--rate", "1")
     hello(link)
-    assert link.answer(1, "OUT8", port=0x89, value=0x02).name == "ACK"
+    assert ask(link, 1, "OUT8", port=0x89, value=0x02).name == "ACK"
     for payload in (b"", b"\x01\x01"):                  # HELLO with 0 and 2 bytes
         body = bytes((len(payload), 0, 0x01)) + payload
         crc = link.P.crc16(body)
         link.send(b"\xa5" + body + bytes((crc >> 8, crc & 0xFF)))
     assert link.receive("IDENTIFY", seconds=0.5) is None
     # the session went on: SEQ 2 is new (after a HELLO it would be ignored)
-    assert link.answer(2, "OUT8", port=0x88, value=0x05).name == "ACK"
+    assert ask(link, 2, "OUT8", port=0x88, value=0x05).name == "ACK"
     assert link.board.wait_for(lambda: motor_notes(link, 0x05))
 
 
 def test_an_echo_of_the_boards_frames_takes_no_seq_and_does_not_feed_the_watchdog(raw):
     link = raw("--rate", "1")
     hello(link)
-    ack = link.answer(1, "OUT8", port=0x89, value=0x02)
+    ack = ask(link, 1, "OUT8", port=0x89, value=0x02)
     # the board's own ACK, come back on a line that echoes, with the SEQ
     # the host uses next
     link.frame(2, "ACK", ack=1)
     link.send(link.P.frame(ack.seq, "ACK", ack=1))
-    answer = link.answer(2, "OUT8", port=0x88, value=0x05)
+    answer = ask(link, 2, "OUT8", port=0x88, value=0x05)
     assert answer.name == "ACK" and answer["ack"] == 2
     assert link.board.wait_for(lambda: motor_notes(link, 0x05))     # acted on: new
     # Now only echoes: every board frame sent straight back for 600 ms.
@@ -222,10 +236,10 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
     hello(link)
     seq = 1
     for value in (0x10, 0x2A, 0x00, 0x10):                          # INT 1Ch -> 1000:2A10
-        assert link.answer(seq, "FAR_STORE", seg=0, off=0x70 + seq - 1, value=value).name == "ACK"
+        assert ask(link, seq, "FAR_STORE", seg=0, off=0x70 + seq - 1, value=value).name == "ACK"
         seq += 1
-    assert link.answer(seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
-    assert link.answer(seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
+    assert ask(link, seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
+    assert ask(link, seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
     link.board.wait_for(lambda: False, 8)                # not read: about 80 s of board time
     link.receive(seconds=0.5)
     while link.receive(seconds=0.2) is not None:         # drain the line
@@ -254,14 +268,15 @@ def test_the_first_command_drives_the_same_with_the_encoders_past_their_32_bit_w
 
 
 # RCL's lag q - p of the left wheel at each tick of a move's cruise, as
-# CHECK-WHEEL takes it (the tick's own counter reads): the mean over the
-# first 512 ticks at top speed and over the last 512.
+# CHECK-WHEEL takes it (the tick's own counter reads): the mean over 512
+# ticks at top speed once the speed loop has settled from the ramp (the
+# 301st to the 812th) and over the last 512.
 LAG_WATCH = [
     "VARIABLE CRUISE  2VARIABLE EARLY  CREATE RECENT 512 CELLS ALLOT",
     ": LAG  ( -- n )  COMMANDED  ?CNT1 WHEEL1 >START + 2@ D-  D- DROP ;",
     ": WATCHED  ( -- )  MOVING @ WHEEL1 @ AND SPEED-NOW @ TOP-SPEED @ = AND IF"
     "  1 CRUISE +!  LAG  CRUISE @ 511 AND CELLS RECENT + !"
-    "  CRUISE @ 512 = IF  0. 512 0 DO I CELLS RECENT + @ S>D D+ LOOP EARLY 2!  THEN"
+    "  CRUISE @ 812 = IF  0. 512 0 DO I CELLS RECENT + @ S>D D+ LOOP EARLY 2!  THEN"
     "  THEN  (CONTROL) ;",
     ": LATE  ( -- d )  0. 512 0 DO I CELLS RECENT + @ S>D D+ LOOP ;",
     "' WATCHED IS CONTROL  0 CRUISE !",
@@ -273,8 +288,9 @@ def test_a_300_foot_move_keeps_its_lag_from_start_to_end(board):
     # machine keeps up with 100 ticks a second more surely than with more):
     # the lag at the end of the cruise is its lag at the start. The 10.000
     # ms tick the firmware had let the wheels gain 0.005 % on RCL's q, 5
-    # counts over this move (measured: 7 to 12), and the 100-count
-    # following limit after 2 million counts.
+    # counts over this move (measured at 4 times real time, the lag at
+    # single ticks: 7 at the start, 12 at the end; 7 and 7 with the exact
+    # tick), and the 100-count following limit after 2 million counts.
     b = board("--rate", "1")
     m = connect(b.path)
     try:
@@ -286,10 +302,13 @@ def test_a_300_foot_move_keeps_its_lag_from_start_to_end(board):
         got = counts(m)
     finally:
         m.board.close()
-    print("\nlag over the first 512 cruise ticks %.2f counts, the last 512 %.2f (%d ticks)"
+    print("\nlag over cruise ticks 301-812 %.2f counts, the last 512 %.2f (%d ticks)"
           % (early, late, cruise))
     assert cruise > 3000
-    assert 0 < early < 20 and abs(late - early) <= 1.5
+    # within the speed loop's own 2 counts of phase error (docs/firmware.md;
+    # measured 0.7 under load), where the 10 ms tick moves the mean about
+    # 4 counts between the windows (3,000 ticks of 25 counts apart)
+    assert 0 < early < 20 and abs(late - early) <= 2
     assert within(got, (102_272, 102_272), 8)
 
 
@@ -322,10 +341,10 @@ def test_a_one_second_tick_on_the_uno_image_is_one_second(simavr):
     link = RawLink(sim.path)
     try:
         hello(link)
-        assert link.answer(1, "OUT16", port=0xFF62, value=100).name == "ACK"
-        assert link.answer(2, "OUT16", port=0xFF52, value=20000).name == "ACK"
+        assert ask(link, 1, "OUT16", port=0xFF62, value=100).name == "ACK"
+        assert ask(link, 2, "OUT16", port=0xFF52, value=20000).name == "ACK"
         for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):      # INT 1Ch -> 1000:2A10
-            assert link.answer(3 + off, "FAR_STORE", seg=0, off=0x70 + off, value=value).name \
+            assert ask(link, 3 + off, "FAR_STORE", seg=0, off=0x70 + off, value=value).name \
                 == "ACK"
         ticks = []
         while len(ticks) < 4:
@@ -355,7 +374,7 @@ def test_a_hung_main_loop_is_reset_by_the_watchdog_and_the_motor_pins_read_safe(
         seq = 1
         for port, value in ((0x83, 0x36), (0x80, 0xFA), (0x80, 0x00),      # N = 250
                             (0x87, 0x36), (0x84, 0xFA), (0x84, 0x00), (0x88, 0x35)):
-            assert link.answer(seq, "OUT8", port=port, value=value).name == "ACK"
+            assert ask(link, seq, "OUT8", port=port, value=value).name == "ACK"
             seq += 1
         assert sim.wait_for(lambda: all(d > 0 for d in sim.figures()["drive"]), 20)
         link.frame(seq, "OUT8", port=0x8F, value=0 if interrupts.startswith("on") else 1)
@@ -379,7 +398,7 @@ def test_a_hung_main_loop_is_reset_by_the_watchdog_and_the_motor_pins_read_safe(
         assert errors["wd"] == "1" and errors["fe"] == "0"
         if interrupts == "on, flooded":
             assert 150 <= int(errors["or"]) <= 300 - 127
-        assert link.answer(1, "IN8", port=0x8A).name == "VALUE"
+        assert ask(link, 1, "IN8", port=0x8A).name == "VALUE"
         assert sim.figures()["drive"] == [0.0, 0.0]
     finally:
         link.close()
