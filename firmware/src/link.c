@@ -219,7 +219,9 @@ static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
     k.last_valid_board_us = hal_micros();
     k.watchdog_tripped = 0;
     if (type == HELLO) {
-        hal_note(NOTE_HELLO, len ? p[0] : 0);
+        if (len != 1)
+            return;                 /* not a HELLO that fits: no session (section 4) */
+        hal_note(NOTE_HELLO, p[0]);
         hello();
         return;
     }
@@ -255,7 +257,9 @@ static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
 
 static uint8_t known_type(uint8_t t)
 {
-    return (t >= HELLO && t <= WAIT) || (t >= IDENTIFY && t <= RESULTS);
+    /* the host's types only: a board frame (an echo of our own) is no
+     * frame here, feeds no watchdog and uses up no SEQ (section 1) */
+    return t >= HELLO && t <= WAIT;
 }
 
 static void drop(uint8_t n)

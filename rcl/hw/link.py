@@ -170,7 +170,7 @@ class LinkBoard(Board):
 
     # ------------------------------------------------------- reader thread
     def read_loop(self):
-        reader = P.FrameReader()
+        reader = P.FrameReader(P.received_by(P.HOST))    # board types only (section 1)
         while not self.stopping.is_set():
             try:
                 data = self.port.read(max(1, self.port.in_waiting))
@@ -187,6 +187,9 @@ class LinkBoard(Board):
                 self.send(P.frame(0, "PING"))
             if now - self.last_rx > P.LOST_MS / 1000 and not self.lost:
                 self.lose("no frame from the board for %d ms" % P.LOST_MS)
+            if self.held and now - self.gap_since > REQUEST_GIVE_UP and not self.lost:
+                # the board no longer keeps it (section 3): never wait on
+                self.lose("board frame %d was not sent again" % self.expected)
 
     def dispatch(self, f, now):
         """Board frames are taken in sequence order: one that comes early is
@@ -198,6 +201,8 @@ class LinkBoard(Board):
             return
         d = P.newer(f.seq, self.expected)
         if d > 0:
+            if not self.held:
+                self.gap_since = now          # a frame is missing from here
             self.held[f.seq] = f
             if now - self.last_nak > P.RETRY_MS / 1000:
                 self.last_nak = now
@@ -210,6 +215,7 @@ class LinkBoard(Board):
             (self.events if f.name in ("TICK", "HEARTBEAT") else self.replies).put(f)
             f = self.held.pop(self.expected, None)
         self.last_nak = 0.0
+        self.gap_since = now                  # (another gap's time starts now)
 
     def send(self, data):
         with self.lock:
