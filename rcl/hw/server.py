@@ -264,6 +264,7 @@ class BoardServer:
             return                                # an unsequenced misfit: no answer
         if f.name == "HELLO":
             self.expected, self.send_seq, self.window = 1, 1, {}
+            self.last_reply = None           # nothing is a repeat in a new session
             self.awaiting = None
             self.clock.release()
             if self.lockstep:
