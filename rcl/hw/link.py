@@ -39,6 +39,8 @@ BACKLOG = 25                 # ticks queued beyond this (the host was away) are 
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
+HOST_LATE = 0.050            # s: a tick answered later than this is noted (Host too slow)
+LATE_WINDOW = 100            # ticks: a late answer this recent explains the error after it
 
 # What RCL's ?CNT1 and ?CNT2 do at every tick (layer 3): latch counters 1
 # and 2 of each 8253, read each low byte then high byte. The board does it
@@ -72,6 +74,7 @@ class LinkBoard(Board):
         self.lost, self.lost_at, self.why = False, 0.0, ""
         self.ticks = self.skipped = self.retries = 0
         self.late = 0                         # ticks run more than 2 ms after they came
+        self.late_answer = None               # (delay s, tick, self.ticks): the worst recent
         self.period = 10_000 * US
         self.board_clock = None               # virtual time of the last tick
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
@@ -424,10 +427,13 @@ class LinkBoard(Board):
                 self.skipped += 1
                 self.log_script_writes()
         waited = 0.0
+        # a lockstep board waits for our WAIT: look often; a free-running
+        # one ticks on its own: wake only to resend a lost TICK_DONE
+        poll = 0.002 if self.lockstep or not block else P.RETRY_MS / 2000
         try:
             while True:
                 try:
-                    return self.events.get(timeout=0.002)
+                    return self.events.get(timeout=poll)
                 except queue.Empty:
                     self.settle(block=False)      # the last TICK_DONE, resent if lost
                     if not block:
@@ -477,7 +483,33 @@ class LinkBoard(Board):
         finally:
             self.flush_tick_writes(final=True)
             self.in_tick = False
+            self.note_answer(tick)
         self.due = self.board_clock + self.period         # the next tick's time, queued or not
+
+    # ------------------------------------------------ a host that is late
+    def note_answer(self, tick):
+        """The host's own delay answering a tick (its TICK read to the final
+        TICK_DONE sent). A board that does not wait for the host (no
+        lockstep flag) runs on meanwhile: a delay over HOST_LATE is noted,
+        the worst of the last LATE_WINDOW ticks kept."""
+        delay = time.monotonic() - tick.arrived
+        worst = self.late_answer
+        if delay > HOST_LATE and not self.lockstep and (
+                worst is None or delay >= worst[0] or self.ticks - worst[2] > LATE_WINDOW):
+            self.late_answer = (delay, tick["tick"], self.ticks)
+
+    def explain(self, error):
+        """A following error or a lost link that comes after the host
+        answered a tick late is the host's doing, not the motors' or the
+        line's: say so, with the figure (docs/protocol.md section 5)."""
+        late, self.late_answer = self.late_answer, None
+        if late is None or self.ticks - late[2] > LATE_WINDOW \
+                or error.message not in ("Following error", "Link lost"):
+            return error
+        e = ForthError(-293, "Host too slow: answered tick %d after %d ms"
+                       % (late[1], round(late[0] * 1000)))
+        e.file, e.line = error.file, error.line
+        return e
 
     def log_script_writes(self):
         self.sent_writes.extend((port, value) for op, port, value in self.script
