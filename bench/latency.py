@@ -16,9 +16,9 @@ started before the move and killed after it.
 
 Figures, per board and number of hogs: the latency's p50, p90, p99 and
 max in ms; ticks run, skipped (the host was over 25 ticks behind) and
-late by over 50 ms; the moves that failed, and why the first did; the host's CPU time per tick (this process: the
+late by over 50 ms; the host's CPU time per tick (this process: the
 Forth handler, the reader thread, the waits) and the handler's own; and
-how the move ended. --profile writes a cProfile of the main thread's
+the moves that failed, with why the first did. --profile writes a cProfile of the main thread's
 part of the last run (what the host does per tick) to FILE. --nice N
 runs the host and the board N steps of niceness above the hogs (as
 docs/protocol.md advises for a computer on the robot; it needs the
@@ -56,6 +56,21 @@ def start_board(kind):
     return proc, proc.stdout.readline().strip()
 
 
+def start(kind, tries=3):
+    """-> (board process, rcl on it, RCL loaded); both anew if the link is
+    lost while loading (a loaded machine can starve the board 250 ms)."""
+    for i in range(tries):
+        board, path = start_board(kind)
+        try:
+            return board, rcl.open(port=path)
+        except rcl.RclError as e:
+            board.terminate()
+            board.wait(10)
+            print("(loading RCL failed: %s%s)" % (e, "; again" if i + 1 < tries else ""))
+            if i + 1 == tries:
+                raise
+
+
 def percentile(sorted_values, p):
     if not sorted_values:
         return float("nan")
@@ -64,11 +79,10 @@ def percentile(sorted_values, p):
 
 def measure(kind, hogs, seconds, profile=None):
     """One long move; -> a dict of figures."""
-    board, path = start_board(kind)
+    board, m = start(kind)
     hog_procs = []
     hog_nice = (lambda: os.nice(-os.nice(0))) if os.nice(0) < 0 else None   # hogs at 0
     try:
-        m = rcl.open(port=path)
         link = m.board
         delays, handler_cpu = [], [0.0]
         run_tick = link.run_tick

@@ -141,6 +141,8 @@ TABLE = [
 ]
 BY_NAME = {m.name: m for m in TABLE}
 BY_ID = {m.id: m for m in TABLE}
+FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT and CLOCK (simulated only)
+SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 
 def received_by(end, lockstep=False):
@@ -148,8 +150,6 @@ def received_by(end, lockstep=False):
     what the other end sends; CLOCK only on a lockstep board. Any other
     TYPE, the end's own types included, is no frame to it."""
     return {m.id for m in TABLE if m.sender != end and (lockstep or not m.lockstep)}
-FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT and CLOCK (simulated only)
-SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 
 # ---------------------------------------------------------------- frames
@@ -159,9 +159,8 @@ def _crc_byte(crc):
     return crc & 0xFFFF
 
 
-# a byte at a time, not a bit: the host computes two CRCs a tick (the TICK
-# read, the TICK_DONE sent), and bit by bit they cost a small computer
-# riding on the robot 1-2 ms of each 10 ms tick (docs/protocol.md 5)
+# a byte at a time, not a bit (a fifth of the time): the host computes two
+# CRCs every tick, the TICK it reads and the TICK_DONE it sends
 _CRC_TABLE = [_crc_byte(i << 8) for i in range(256)]
 
 

@@ -12,8 +12,8 @@ import time
 import pytest
 
 import wire
-from wire import (ACK, CLOCK, FAR_FETCH, HEARTBEAT, HELLO, IDENTIFY, IN8, IN16, NAK, OUT8,
-                  OUT16, PING, REFUSED, RESULTS, RUN, SAFE, SNAPSHOT, TICK, TICK_DONE,
+from wire import (ACK, CLOCK, FAR_FETCH, HEARTBEAT, HELLO, IDENTIFY, IN8, NAK, OUT8,
+                  PING, REFUSED, RESULTS, SAFE, SNAPSHOT, TICK, TICK_DONE,
                   TICK_FAILED, VALUE, WAIT, frame, ops, u16, u32)
 
 LEFT, RIGHT = 0x80, 0x84                # the two 8253s (board-hardware port map)
