@@ -20,9 +20,10 @@ late by over 50 ms; the host's CPU time per tick (this process: the
 Forth handler, the reader thread, the waits) and the handler's own; and
 the moves that failed, with why the first did. --profile writes a cProfile of the main thread's
 part of the last run (what the host does per tick) to FILE. --nice N
-runs the host and the board N steps of niceness above the hogs (as
-docs/protocol.md advises for a computer on the robot; it needs the
-right to raise priority, root or CAP_SYS_NICE).
+runs the host and the board N steps of niceness above the hogs; under
+`chrt -f 10` both run with a real-time priority and the hogs without
+(docs/protocol.md advises either for a computer on the robot; they need
+the right to raise priority, root or CAP_SYS_NICE).
 """
 import argparse
 import cProfile
@@ -71,6 +72,15 @@ def start(kind, tries=3):
                 raise
 
 
+def ordinary():
+    """In a hog, before it runs: none of the priority the host was given
+    (--nice, or a real-time policy from `chrt -f 10 python3 bench/...`)."""
+    if os.sched_getscheduler(0) != os.SCHED_OTHER:
+        os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
+    if os.nice(0) < 0:
+        os.nice(-os.nice(0))
+
+
 def percentile(sorted_values, p):
     if not sorted_values:
         return float("nan")
@@ -81,7 +91,6 @@ def measure(kind, hogs, seconds, profile=None):
     """One long move; -> a dict of figures."""
     board, m = start(kind)
     hog_procs = []
-    hog_nice = (lambda: os.nice(-os.nice(0))) if os.nice(0) < 0 else None   # hogs at 0
     try:
         link = m.board
         delays, handler_cpu = [], [0.0]
@@ -93,7 +102,7 @@ def measure(kind, hogs, seconds, profile=None):
             delays.append(time.monotonic() - tick.arrived)
             handler_cpu[0] += time.thread_time() - t0
         link.run_tick = timed
-        hog_procs = [subprocess.Popen(["python3", "-c", "while 1: pass"], preexec_fn=hog_nice)
+        hog_procs = [subprocess.Popen(["python3", "-c", "while 1: pass"], preexec_fn=ordinary)
                      for _ in range(hogs)]
         ticks0, skipped0 = link.ticks, link.skipped
         wall0, cpu0 = time.monotonic(), time.process_time()
@@ -146,9 +155,9 @@ def main():
         os.nice(-args.nice)
     runs = [(b, int(h)) for b in args.board.split(",") for h in args.hogs.split(",")]
     print("tick latency: TICK read -> final TICK_DONE sent, one %.0f s move at 1 MPH, "
-          "on %d cores (load %.1f), Python %s, niceness %d" % (
+          "on %d cores (load %.1f), Python %s, niceness %d%s" % (
               args.seconds, os.cpu_count(), os.getloadavg()[0], sys.version.split()[0],
-              os.nice(0)))
+              os.nice(0), ", real-time" if os.sched_getscheduler(0) != os.SCHED_OTHER else ""))
     print("%-10s %4s %7s %7s %7s %8s %6s %5s %6s %9s %9s  %s" % (
         "board", "hogs", "p50 ms", "p90 ms", "p99 ms", "max ms", "ticks", "skip", ">50ms",
         "cpu/tick", "handler", "ended"))

@@ -481,23 +481,23 @@ def test_the_wheel_turns_while_the_host_keeps_the_link_fed(s):
 def test_the_watchdog_stops_the_wheels_after_250_ms_of_silence(s):
     start_left_wheel(s)
     assert turned(s, 150) > 10
-    s.quiet(0.5, keep_alive=False)
+    s.advance(500, keep_alive=False)          # 250 ms of silence and more
     assert stopped(s)
 
 
 def test_pings_alone_feed_the_watchdog(s):
     start_left_wheel(s)
-    s.quiet(0.6)                              # PINGs every 100 ms
+    if s.lockstep:                            # (its watchdog counts the wall clock)
+        s.quiet(0.6)                          # PINGs every 100 ms, nothing else
+    else:
+        s.board_time(600)
     assert turned(s, 200) > 20
 
 
 def test_echoed_board_frames_do_not_feed_the_watchdog(s):
     start_left_wheel(s)
-    echo = s.frames[-1].raw
-    end = time.monotonic() + 0.6
-    while time.monotonic() < end:
-        s.send(echo)
-        s.quiet(0.04, keep_alive=False)
+    echo = s.frames[-1].raw                   # the board's last frame, every 40 ms
+    s.advance(600, keep_alive=False, chatter=echo)
     assert stopped(s)
 
 
@@ -517,7 +517,7 @@ def test_safe_with_a_payload_still_stops_the_wheels_and_is_refused(s):
 
 def test_after_the_watchdog_only_a_motor_latch_write_turns_the_wheel_again(s):
     start_left_wheel(s)
-    s.quiet(0.5, keep_alive=False)
+    s.advance(500, keep_alive=False)
     s.hello()
     assert stopped(s)
     s.out8(MOTOR, 0x11)

@@ -182,7 +182,7 @@ class Session:
                 self.send(frame(0, PING))
             self.poll(0.01)
 
-    def quiet(self, seconds, keep_alive=True):
+    def quiet(self, seconds, keep_alive=True, chatter=None):
         """Take what comes for `seconds` of wall time; -> those frames.
         Silent (no keep_alive), the host's own time passes as the wall
         clock's (for CLOCK after it: a lockstep board whose watchdog
@@ -191,8 +191,7 @@ class Session:
         began = time.monotonic()
         end = began + seconds
         while time.monotonic() < end:
-            if keep_alive and time.monotonic() - self.last_sent > 0.1:
-                self.send(frame(0, PING))
+            self.keep(keep_alive, chatter)
             self.poll(min(0.01, max(0.0, end - time.monotonic())))
         if not keep_alive:
             self.host_us += int((time.monotonic() - began) * 1e6) // 10_000 * 10_000
@@ -289,16 +288,46 @@ class Session:
     def run(self, records):
         return self.request(RUN, ops(records))
 
-    def advance(self, ms):
-        """Let `ms` of board time pass: a lockstep board that does not
-        tick keeps the host's time (CLOCK, section 4), any other board
-        its own, so the host waits that long on the wall clock."""
-        if not self.lockstep:
-            self.quiet(ms / 1000)
-            return
-        for _ in range(ms // 10):
-            self.host_us += 10_000
-            assert self.request(CLOCK, u32(self.host_us)).type == ACK
+    def keep(self, keep_alive, chatter):
+        """A PING every 100 ms (keep_alive), or `chatter` every 40 ms."""
+        if chatter is not None and time.monotonic() - self.last_sent > 0.04:
+            self.send(chatter)
+        elif keep_alive and time.monotonic() - self.last_sent > 0.1:
+            self.send(frame(0, PING))
+
+    def advance(self, ms, keep_alive=True, chatter=None):
+        """Let at least `ms` of board time pass. A lockstep board that does
+        not tick keeps the host's time (CLOCK, section 4); any other board
+        keeps its own, which its HEARTBEATs tell (a board slowed by a busy
+        machine is waited for). Silent (no keep_alive: nothing, or only
+        `chatter`), a lockstep board is waited for on the wall clock, as
+        its watchdog counts."""
+        if self.lockstep and (chatter is not None or not keep_alive):
+            self.quiet(ms / 1000, keep_alive=False, chatter=chatter)
+        elif self.lockstep:
+            for _ in range(ms // 50):
+                self.host_us += 50_000
+                assert self.request(CLOCK, u32(self.host_us)).type == ACK
+        else:
+            self.board_time(ms, keep_alive, chatter)
+
+    def board_time(self, ms, keep_alive=True, chatter=None):
+        """Wait until the board's HEARTBEAT time has moved `ms` (the wall
+        clock bounds it only for a broken board: ten times, and 5 s)."""
+        self.unread = [f for f in self.unread if f.type != HEARTBEAT]
+        first = None
+        end = time.monotonic() + ms / 100 + 5
+        while time.monotonic() < end:
+            self.keep(keep_alive, chatter)
+            f = self.receive({HEARTBEAT}, 0.02, keep_alive and chatter is None)
+            if f is None:
+                continue
+            now = f.heartbeat()[0]
+            if first is None:
+                first = now
+            elif (now - first) & 0xFFFFFFFF >= ms * 1000:
+                return
+        raise AssertionError("the board's time did not move %d ms" % ms)
 
     def close(self):
         os.close(self.fd)
