@@ -39,7 +39,9 @@ BACKLOG = 25                 # ticks queued beyond this (the host was away) are 
 REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
-HOST_LATE = 0.050            # s: a tick answered later than this is noted (Host too slow)
+# A tick answered later than HOST_LATE is noted: 10 ticks in which RCL's
+# control did not act, at 2 MPH its whole 100-count following limit
+HOST_LATE = 0.100
 LATE_WINDOW = 100            # ticks: a late answer this recent explains the error after it
 
 # What RCL's ?CNT1 and ?CNT2 do at every tick (layer 3): latch counters 1
