@@ -133,7 +133,9 @@ def test_identify_sets_no_flag_but_bit_0_and_names_the_board_in_text(s):
 def test_the_documents_worked_example_is_acknowledged_with_board_seq_1(s):
     s.send(bytes.fromhex("a5 03 01 02 88 00 0f e4 dd"))
     ack = s.receive({ACK})
-    assert ack.seq == 1 and ack.ack == 1 and ack.payload == b"\x01"
+    assert ack.ack == 1 and ack.payload == b"\x01"
+    # board SEQ 1, or the next after HEARTBEATs sent since HELLO
+    assert [f.seq for f in s.frames[1:]] == list(range(1, ack.seq + 1))
 
 
 def test_board_frames_after_hello_are_numbered_1_2_3_without_a_gap(s):
@@ -259,7 +261,8 @@ def test_hello_restarts_both_sequences(s):
         s.in8(STATUS)
     s.hello()
     answer = s.request(IN8, u16(STATUS))
-    assert answer.ack == 1 and answer.seq == 1
+    assert answer.ack == 1
+    assert [f.seq for f in s.frames[1:]] == list(range(1, answer.seq + 1))
 
 
 def test_nak_brings_back_a_kept_board_frame_byte_for_byte(s):
