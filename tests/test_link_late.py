@@ -10,6 +10,7 @@ import time
 import pytest
 
 import rcl
+from rcl.hw import protocol as P
 
 
 @pytest.fixture
@@ -56,5 +57,44 @@ def test_a_late_host_on_a_lockstep_board_moves_as_on_time_and_is_never_told_it_i
         late_host(m, 0.060)
         assert m.evaluate("RERB 2 INCHES FORWARD") == ""
         assert m.board.late_answer is None
+    finally:
+        m.board.close()
+
+
+def test_a_board_frame_the_board_no_longer_keeps_ends_in_link_lost_not_a_wait_for_ever():
+    # What a host that lags past the board's NAK window meets (section 3):
+    # a TICK lost on the line that the board cannot send again. The host
+    # gives up on it after 1 s instead of waiting for ever, wheels running.
+    m = rcl.open(port="rclsim://")
+    try:
+        server = m.board.port.server
+        server.lockstep = False                   # a real board's timing, from the next HELLO
+        assert m.evaluate("RECONNECT").startswith(" Link up") and not m.board.lockstep
+        send, handle, lost, answered = server.send, server.handle, [], [None]
+
+        def watching(f):
+            if f.name == "TICK_DONE" and f.values and f["final"]:
+                answered[0] = f["tick"]
+            return handle(f)
+
+        def lossy(message, seq=None, **values):
+            data = send(message, seq=seq, **values)
+            before = server.window.get((data[2] - 1) & 0xFF, b"     ")
+            # lost when the host has answered every tick before it and has
+            # its answer: nothing of the host's in flight, whose own 1 s
+            # would end the wait
+            if message == "TICK" and not lost and server.stats["ticks_sent"] > 20 \
+                    and answered[0] == (values["tick"] - 1) & 0xFFFF \
+                    and before[3] == 0x82 and before[4] == P.previous(server.expected):
+                lost.append(data)
+                del server.out[-len(data):]       # never on the line
+                del server.window[data[2]]        # and no longer kept
+            return data
+        server.handle = watching
+        server.send = lossy
+        with pytest.raises(rcl.ForthError) as e:
+            m.evaluate("RERB 1 MPH 10 FEET FORWARD")
+        assert lost and e.value.message.startswith(("Link lost", "Host too slow"))
+        assert m.board.why == "board frame %d was not sent again" % lost[0][2]
     finally:
         m.board.close()
