@@ -73,6 +73,7 @@ class Board:
     Observation
       trace(file) -> recorder, or None
       status() -> a line for the prompt's status, or ""
+      explain(error) -> the error to report (a cause the board knows)
     Faults (an optional capability: the simulated board has it)
       inject_fault(fault, wheel, value)   "stall", "load" or "encoder"
     """
@@ -142,6 +143,11 @@ class Board:
         """The interrupt handler failed: motors off and, on a board that
         ticks, no more ticks until the software sets the timer again."""
         self.stop_motors()
+
+    def explain(self, error):
+        """-> the error to report for `error`: itself, unless the board
+        knows its cause better (a link whose host answered ticks late)."""
+        return error
 
     def reconnect(self):
         """Connect again to a board that was lost; -> a line saying what

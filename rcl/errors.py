@@ -36,6 +36,7 @@ MESSAGES = {
     -263: "No CODE for",
     -290: "Tick fault",
     -291: "Runs too long",
+    -293: "Host too slow",
 }
 
 

@@ -239,11 +239,12 @@ def test_a_command_typed_soon_after_the_link_was_lost_at_the_prompt_is_stopped_n
     assert "FFFF" not in m.take_output()              # no made-up value was printed
 
 
-def test_a_free_running_served_board_refuses_clock():
+def test_a_free_running_served_board_drops_clock_unanswered_as_an_unknown_type():
     from rcl.hw import protocol as P
     from rcl.hw.server import BoardServer
     server = BoardServer(lockstep=False)
-    server.receive(P.frame(0, "HELLO", version=1) + P.frame(1, "CLOCK", us=40_416))
+    server.receive(P.frame(0, "HELLO", version=1) + P.frame(1, "CLOCK", us=40_416)
+                   + P.frame(1, "IN16", port=0xFF52))
     frames = [f for f in P.FrameReader().feed(server.take_output()) if f.name != "HEARTBEAT"]
-    assert [f.name for f in frames] == ["IDENTIFY", "REFUSED"]
-    assert frames[1]["reason"] == "not a lockstep board"
+    # CLOCK used up no SEQ: the IN16 with SEQ 1 is the frame in sequence
+    assert [f.name for f in frames] == ["IDENTIFY", "VALUE"] and frames[1]["ack"] == 1

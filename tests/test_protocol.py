@@ -88,3 +88,22 @@ def test_every_hex_example_in_the_protocol_document_is_a_good_frame():
 def test_host_sequence_numbers_run_1_to_255_and_never_0():
     assert P.following(254) == 255 and P.following(255) == 1
     assert P.previous(1) == 255 and P.previous(2) == 1
+
+
+def test_each_end_knows_only_the_other_ends_types_and_clock_only_in_lockstep():
+    board = P.FrameReader(P.received_by(P.BOARD))
+    echo = P.frame(1, "ACK", ack=1) + P.frame(1, "CLOCK", us=5)
+    assert board.feed(echo + P.frame(1, "OUT8", port=0x88, value=0))[0].name == "OUT8"
+    lockstep = P.FrameReader(P.received_by(P.BOARD, lockstep=True))
+    assert [f.name for f in lockstep.feed(echo)] == ["CLOCK"]
+    host = P.FrameReader(P.received_by(P.HOST))
+    assert [f.name for f in host.feed(echo)] == ["ACK"]
+
+
+def test_a_good_frame_whose_payload_does_not_fit_is_kept_for_a_refusal_when_asked():
+    body = bytes((2, 1, 0x02, 0x88, 0x00))              # OUT8 with no value byte
+    crc = P.crc16(body)
+    data = bytes((P.SYNC,)) + body + bytes((crc >> 8, crc & 0xFF))
+    assert P.FrameReader().feed(data) == []
+    (f,) = P.FrameReader(keep_bad=True).feed(data)
+    assert f.name == "OUT8" and f.seq == 1 and f.values is None and "too short" in f.error

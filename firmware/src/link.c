@@ -255,7 +255,7 @@ static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
     k.watchdog_tripped = 0;
     if (type == HELLO) {
         if (len != 1)
-            return;                 /* version:B, or it is not a HELLO */
+            return;                 /* version:B, or it is not a HELLO: no session (section 4) */
         hal_note(NOTE_HELLO, p[0]);
         hello();
         return;
@@ -288,7 +288,9 @@ static void frame(uint8_t seq, uint8_t type, const uint8_t *p, uint8_t len)
 
 static uint8_t known_type(uint8_t t)
 {
-    return (t >= HELLO && t <= WAIT) || (t >= IDENTIFY && t <= RESULTS);
+    /* the host's types only: a board frame (an echo of our own) is no
+     * frame here, feeds no watchdog and uses up no SEQ (section 1) */
+    return t >= HELLO && t <= WAIT;
 }
 
 static void drop(uint8_t n)

@@ -274,6 +274,7 @@ class Forth(Inner, Outer):
             self.fail(e)
 
     def fail(self, e):
+        e = self.board.explain(e)          # a cause only the board knows (a late host)
         if e.file is None:                 # where in a file it happened
             for src in reversed(self.sources):
                 if src.kind == "file":

@@ -41,6 +41,10 @@ REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost (s
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
 STALL = 0.030                # s: a longer gap between the reader's reads is this process's stall
+# A tick answered later than HOST_LATE is noted: 10 ticks in which RCL's
+# control did not act, at 2 MPH its whole 100-count following limit
+HOST_LATE = 0.100
+LATE_WINDOW = 100            # ticks: a late answer this recent explains the error after it
 
 class LinkLost(P.LinkError):
     """The board stopped answering."""
@@ -65,6 +69,7 @@ class LinkBoard(Board):
         self.lost, self.lost_at, self.why = False, 0.0, ""
         self.ticks = self.skipped = self.retries = 0
         self.late = 0                         # ticks run more than 2 ms after they came
+        self.late_answer = None               # (delay s, tick, self.ticks): the worst recent
         self.period = 10_000 * US
         self.board_clock = None               # virtual time of the last tick
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
@@ -184,7 +189,7 @@ class LinkBoard(Board):
 
     # ------------------------------------------------------- reader thread
     def read_loop(self):
-        reader = P.FrameReader()
+        reader = P.FrameReader(P.received_by(P.HOST))    # board types only (section 1)
         looked_at = time.monotonic()
         while not self.stopping.is_set():
             try:
@@ -204,6 +209,9 @@ class LinkBoard(Board):
                 self.send(P.frame(0, "PING"))
             if self.silent() and not self.lost:
                 self.lose("no frame from the board for %d ms" % P.LOST_MS)
+            if self.held and now - self.gap_since > REQUEST_GIVE_UP and not self.lost:
+                # the board no longer keeps it (section 3): never wait on
+                self.lose("board frame %d was not sent again" % self.expected)
 
     def was_away(self, seconds):
         """This thread's last read came back this much later (a read waits
@@ -231,6 +239,8 @@ class LinkBoard(Board):
             return
         d = P.newer(f.seq, self.expected)
         if d > 0:
+            if not self.held:
+                self.gap_since = now          # a frame is missing from here
             self.held[f.seq] = f
             if now - self.last_nak > P.RETRY_MS / 1000:
                 self.last_nak = now
@@ -243,6 +253,7 @@ class LinkBoard(Board):
             (self.events if f.name in ("TICK", "HEARTBEAT") else self.replies).put(f)
             f = self.held.pop(self.expected, None)
         self.last_nak = 0.0
+        self.gap_since = now                  # (another gap's time starts now)
 
     def send(self, data):
         with self.lock:
@@ -471,10 +482,13 @@ class LinkBoard(Board):
                 self.skipped += 1
                 self.log_script_writes()
         waited = 0.0
+        # a lockstep board waits for our WAIT: look often; a free-running
+        # one ticks on its own: wake only to resend a lost TICK_DONE
+        poll = 0.002 if self.lockstep or not block else P.RETRY_MS / 2000
         try:
             while True:
                 try:
-                    return self.events.get(timeout=0.002)
+                    return self.events.get(timeout=poll)
                 except queue.Empty:
                     self.settle(block=False)      # the last TICK_DONE, resent if lost
                     if not block:
@@ -527,7 +541,33 @@ class LinkBoard(Board):
         finally:
             self.flush_tick_writes(final=True)
             self.in_tick = False
+            self.note_answer(tick)
         self.due = self.board_clock + self.period         # the next tick's time, queued or not
+
+    # ------------------------------------------------ a host that is late
+    def note_answer(self, tick):
+        """The host's own delay answering a tick (its TICK read to the final
+        TICK_DONE sent). A board that does not wait for the host (no
+        lockstep flag) runs on meanwhile: a delay over HOST_LATE is noted,
+        the worst of the last LATE_WINDOW ticks kept."""
+        delay = time.monotonic() - tick.arrived
+        worst = self.late_answer
+        if delay > HOST_LATE and not self.lockstep and (
+                worst is None or delay >= worst[0] or self.ticks - worst[2] > LATE_WINDOW):
+            self.late_answer = (delay, tick["tick"], self.ticks)
+
+    def explain(self, error):
+        """A following error or a lost link that comes after the host
+        answered a tick late is the host's doing, not the motors' or the
+        line's: say so, with the figure (docs/protocol.md section 5)."""
+        late, self.late_answer = self.late_answer, None
+        if late is None or self.ticks - late[2] > LATE_WINDOW \
+                or error.message not in ("Following error", "Link lost"):
+            return error
+        e = ForthError(-293, "Host too slow: answered tick %d after %d ms"
+                       % (late[1], round(late[0] * 1000)))
+        e.file, e.line = error.file, error.line
+        return e
 
     def log_script_writes(self):
         self.sent_writes.extend((port, value) for op, port, value in self.script

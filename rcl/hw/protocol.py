@@ -48,10 +48,11 @@ class Message:
     """One row of the table: name, type id, who sends it, whether it is
     sequenced (acknowledged and retransmitted) and its payload fields."""
 
-    def __init__(self, name, type_id, sender, fields, sequenced=True, doc=""):
+    def __init__(self, name, type_id, sender, fields, sequenced=True, doc="", lockstep=False):
         self.name, self.id, self.sender = name, type_id, sender
         self.fields = [f.split(":") for f in fields.split()] if fields else []
         self.sequenced, self.doc = sequenced, doc
+        self.lockstep = lockstep    # known only to lockstep (simulated) boards
 
     def encode(self, **values):
         out = bytearray()
@@ -118,7 +119,7 @@ TABLE = [
             doc="port operations as one, as SNAPSHOT's; answer RESULTS"),
     Message("WAIT", 0x0F, HOST, "tick:H", False,
             doc="the host waits for tick `tick`; a lockstep board lets its time run; no answer"),
-    Message("CLOCK", 0x10, HOST, "us:I",
+    Message("CLOCK", 0x10, HOST, "us:I", lockstep=True,
             doc="lockstep boards only: the host's time has reached `us` (µs since HELLO); "
                 "while timer 0 does not tick, the board's time follows it; answer ACK"),
     Message("NAK", 0x0D, HOST, "seq:B", False,
@@ -136,7 +137,7 @@ TABLE = [
     Message("RESULTS", 0x87, BOARD, "ack:B results:*B",
             doc="host frame `ack` (RUN) read these bytes"),
     Message("REFUSED", 0x86, BOARD, "ack:B reason:s",
-            doc="host frame `ack` could not be acted on (unknown type, bad payload)"),
+            doc="host frame `ack` could not be acted on (bad payload, script too long)"),
 ]
 BY_NAME = {m.name: m for m in TABLE}
 BY_ID = {m.id: m for m in TABLE}
@@ -144,14 +145,30 @@ FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT and CL
 SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 
+def received_by(end, lockstep=False):
+    """The types `end` (HOST or BOARD) knows (docs/protocol.md section 1):
+    what the other end sends; CLOCK only on a lockstep board. Any other
+    TYPE, the end's own types included, is no frame to it."""
+    return {m.id for m in TABLE if m.sender != end and (lockstep or not m.lockstep)}
+
+
 # ---------------------------------------------------------------- frames
+def _crc_byte(crc):
+    for _ in range(8):
+        crc = ((crc << 1) ^ 0x1021) if crc & 0x8000 else crc << 1
+    return crc & 0xFFFF
+
+
+# a byte at a time, not a bit (a fifth of the time): the host computes two
+# CRCs every tick, the TICK it reads and the TICK_DONE it sends
+_CRC_TABLE = [_crc_byte(i << 8) for i in range(256)]
+
+
 def crc16(data, crc=0xFFFF):
     """CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, MSB first, no xor out."""
+    table = _CRC_TABLE
     for byte in data:
-        crc ^= byte << 8
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1021) if crc & 0x8000 else crc << 1
-        crc &= 0xFFFF
+        crc = ((crc << 8) & 0xFFFF) ^ table[(crc >> 8) ^ byte]
     return crc
 
 
@@ -167,8 +184,9 @@ def frame(seq, message, /, **values):
 class Frame:
     """A received frame: seq, the message row, its decoded values."""
 
-    def __init__(self, seq, message, values):
+    def __init__(self, seq, message, values, error=None):
         self.seq, self.message, self.values = seq, message, values
+        self.error = error         # the payload does not fit (values is None)
 
     @property
     def name(self):
@@ -182,12 +200,16 @@ class Frame:
 
 
 class FrameReader:
-    """Turns a byte stream into frames. After garbage or a bad CRC it drops
-    one byte and looks for the next SYNC, so it resynchronises on its own;
-    a frame is only ever returned whole and with a good CRC."""
+    """Turns a byte stream into frames. After garbage, a bad CRC or a type
+    not in `types` (None: any in the table) it drops one byte and looks for
+    the next SYNC, so it resynchronises on its own; a frame is only ever
+    returned whole and with a good CRC. A good frame whose payload does not
+    fit its message is dropped, or with keep_bad returned with `error` set
+    and no values (a board answers it REFUSED, section 1 step 5)."""
 
-    def __init__(self):
+    def __init__(self, types=None, keep_bad=False):
         self.buf = bytearray()
+        self.types, self.keep_bad = types, keep_bad
         self.bad = 0               # frames rejected: CRC, unknown type, payload
         self.skipped = 0           # bytes dropped looking for SYNC
 
@@ -221,15 +243,18 @@ class FrameReader:
                 return None
             crc = (buf[end - 2] << 8) | buf[end - 1]
             msg = BY_ID.get(buf[3])
-            if crc != crc16(buf[1:end - 2]) or msg is None:
+            known = msg is not None and (self.types is None or msg.id in self.types)
+            if not known or crc != crc16(buf[1:end - 2]):
                 self._drop_one()
                 continue
             seq, payload = buf[2], bytes(buf[HEADER:end - 2])
             del buf[:end]
             try:
                 return Frame(seq, msg, msg.decode(payload))
-            except ProtocolError:
+            except ProtocolError as e:
                 self.bad += 1
+                if self.keep_bad:
+                    return Frame(seq, msg, None, error=str(e))
         return None
 
     def _drop_one(self):

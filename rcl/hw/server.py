@@ -119,7 +119,9 @@ class BoardServer:
         self.clock = BoardClock(self, rate=rate)
         self.board = SimBoard(port_log=True)     # for --report and the tests
         self.board.attach(self.clock)
-        self.reader = P.FrameReader()
+        # only the host's types are frames here (CLOCK only in lockstep), and
+        # a payload that does not fit is answered REFUSED (docs/protocol.md 1)
+        self.reader = P.FrameReader(P.received_by(P.BOARD, lockstep), keep_bad=True)
         self.random = random.Random(seed)
         self.corrupt, self.cut_at, self.cut_for = corrupt, cut_at, cut_for
         self.version, self.name = version, name
@@ -295,6 +297,8 @@ class BoardServer:
         self.last_valid = time.monotonic()
         self.last_valid_clock = self.clock.now()
         self.safe, self.in_session = False, True
+        if f.error is not None and not f.message.sequenced:
+            return                                # an unsequenced misfit: no answer
         if f.name == "HELLO":
             self.new_session()
             self.out += P.frame(0, "IDENTIFY", version=self.version, tick_us=10_000,
@@ -328,9 +332,9 @@ class BoardServer:
         if f.seq != self.expected:
             return                                # not ours to take (SEQ 0: unsequenced)
         self.expected = P.following(self.expected)
-        if f.message.sender != P.HOST:
+        if f.error is not None:
             self.stats["refused"] += 1
-            self.reply("REFUSED", ack=f.seq, reason="not a host message")
+            self.reply("REFUSED", ack=f.seq, reason="bad payload")
             return
         self.stats["acted"] += 1
         self.act(f)
@@ -367,9 +371,7 @@ class BoardServer:
                 self.done = True
         elif name == "SAFE":
             b.stop_motors()
-        elif name == "CLOCK":
-            if not self.lockstep:
-                return self.reply("REFUSED", ack=f.seq, reason="not a lockstep board")
+        elif name == "CLOCK":                     # (a lockstep board's type only)
             self.host_time(v["us"])
         elif name == "TICK_FAILED":               # no TICK_DONE will come for this tick
             b.tick_failed()
