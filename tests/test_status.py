@@ -97,7 +97,7 @@ def test_status_heading_wraps_to_0_and_a_small_negative_shows_as_0_0():
 
 
 def test_status_over_a_link_fits_79_columns_by_shortening_the_link_state():
-    m = rcl.open(port="rclsim://?rate=4")
+    m = rcl.open(port="rclsim://")
     try:
         m.evaluate("RERB 2 MPH 1 FEET FORWARD .POSE 1 2")
         assert len(status.linked_text(m)) > 79              # the whole line is wider
