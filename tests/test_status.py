@@ -62,6 +62,10 @@ def test_status_on_a_linked_board_shows_the_link_and_rcls_own_pose():
         line = status.linked_text(m)
         assert line.startswith("link up: rcl-board (simulated R-E Robot), ")
         assert re.search(r"  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 0$", line)
+        # wider than 80 columns: the link's details go first, the pose stays
+        assert len(line) > 79
+        assert re.fullmatch(r"link up  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 0",
+                            status.linked_text(m, 79))
     finally:
         m.board.close()
 
@@ -94,14 +98,3 @@ def test_status_heading_wraps_to_0_and_a_small_negative_shows_as_0_0():
     assert "x 0.0 y 0.0 in  heading 0.0  " in status.text(m)
     m.sim.place(-0.06, 0.0, -0.04)
     assert "x -0.1 y 0.0 in  heading 0.0  " in status.text(m)
-
-
-def test_status_over_a_link_fits_79_columns_by_shortening_the_link_state():
-    m = rcl.open(port="rclsim://")
-    try:
-        m.evaluate("RERB 2 MPH 1 FEET FORWARD .POSE 1 2")
-        assert len(status.linked_text(m)) > 79              # the whole line is wider
-        line = status.linked_text(m, 79)
-        assert re.fullmatch(r"link up  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 2", line)
-    finally:
-        m.board.close()
