@@ -98,3 +98,11 @@ def test_status_heading_wraps_to_0_and_a_small_negative_shows_as_0_0():
     assert "x 0.0 y 0.0 in  heading 0.0  " in status.text(m)
     m.sim.place(-0.06, 0.0, -0.04)
     assert "x -0.1 y 0.0 in  heading 0.0  " in status.text(m)
+
+
+def test_one_decimal_never_shows_minus_zero_nor_a_heading_of_360():
+    # rcl-board's status line writes the pose with these too
+    assert [status.heading_text(h) for h in (359.96, 359.94, -0.04, 720.25, 90.0)] == \
+        ["0.0", "359.9", "0.0", "0.2", "90.0"]
+    assert [status.tenths(v) for v in (-0.04, -0.05001, 0.04, 12.34)] == \
+        ["0.0", "-0.1", "0.0", "12.3"]
