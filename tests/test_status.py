@@ -73,8 +73,8 @@ def test_status_on_a_linked_board_shows_the_link_and_rcls_own_pose():
 def busy_system():
     """Every field of the status line showing, the numbers at their widest."""
     m = rcl.open()
-    m.evaluate("23 59 SET-CLOCK 1 2 3 4 5 6 7 8 9 10 11 12  MOVING ON  500. Q-AT 2!  1000. END-AT 2!"
-               "  BEEP-ON")
+    m.evaluate("23 59 SET-CLOCK 1 2 3 4 5 6 7 8 9 10 11 12"
+               "  MOVING ON  500. Q-AT 2!  1000. END-AT 2!  BEEP-ON")
     m.sim.place(-123.456, -456.789, 359.96)
     return m
 
