@@ -16,26 +16,27 @@
 
 \ d x n1 / u2 rounded half away from zero, as R*/ (layer 5) but for a
 \ divisor up to 65535 (R*/ halves its divisor with the signed 2/).
-: UR*/  ( d n1 u2 -- d' )
+: UR*/  ( d n1 u2 -- d' )   \ d x n1 / u2 rounded, u2 up to 65535
    >R >R  2DUP D0< -ROT DABS              ( sign ud ) ( R: u2 n1 )
    R> UT*  R@ U2/ UT+  R> UT/               ( sign q0 q1 q2 )
    OVER 0< OR ABORT" Out of range"
    ROT IF DNEGATE THEN ;
 \ The inches V4 of a metric V4 (n as above): V4 x n / 127 rounded, moved
 \ one ten-thousandth back if the two roundings ended on another count.
-: METRIC>INCHES  ( d n -- d' )
+: METRIC>INCHES  ( d n -- d' )   \ a metric V4 as the INCHES V4 of the same counts
    >R 2DUP R@ 44704 UR*/  2SWAP R> 127 R*/   ( counts v4in )
    2DUP 1 352 R*/  2ROT 2SWAP D- D+ ;       \ v4in + (counts - its counts)
-: INCHES!  ( d -- )   PENDING 2!  1 PENDING-UNIT ! ;
-: (MM)  ( fx -- )   >V4 5 METRIC>INCHES INCHES! ;
-: (CM)  ( fx -- )   >V4 50 METRIC>INCHES INCHES! ;
-: (METERS)  ( fx -- )   >V4 5000 METRIC>INCHES INCHES! ;
+: INCHES!  ( d -- )   PENDING 2!  1 PENDING-UNIT ! ;   \ a V4 in inches, pending
+: (MM)  ( fx -- )   >V4 5 METRIC>INCHES INCHES! ;   \ MM of a FIXED pair
+: (CM)  ( fx -- )   >V4 50 METRIC>INCHES INCHES! ;   \ CM of a FIXED pair
+: (METERS)  ( fx -- )   >V4 5000 METRIC>INCHES INCHES! ;   \ METERS of a FIXED pair
 : MM  ( num -- )   FIXED (MM) ;   \ the distance for the next command, in millimetres
 : CM  ( num -- )   FIXED (CM) ;   \ the distance for the next command, in centimetres
 : METERS  ( num -- )   FIXED (METERS) ;   \ the distance for the next command, in metres
 
-\ A speed: the IPS V4 nearest V4 x 50 / 127 that gives round(V4 x 75 / 5588) crpm.
-: (CM/S)  ( fx -- )
+\ A speed: the IPS V4 nearest V4 x 50 / 127 that gives round(V4 x 75 / 5588)
+\ crpm; a speed too small for that is the least IPS (1 crpm, as IPS gives).
+: (CM/S)  ( fx -- )   \ CM/S of a FIXED pair
    POSITIVE ABORT" Bad speed"
    2DUP 75 5588 R*/  2SWAP 50 127 R*/       ( crpm v4ips )
    2DUP 3 88 R*/  2ROT 2SWAP D- D+  1. DMAX
@@ -44,9 +45,9 @@
 
 \ Faults on the simulated board, as its Python API and rcl-board inject
 \ them; a real board refuses each (its faults are real).
-CODE FAULT!  ( value wheel fault -- )  fault 0 stall (value a flag), 1 load
-   (0 to 100 percent), 2 encoder (value false: it stops counting); wheel
-   0 left, 1 right. Through the board interface (Board.inject_fault).
+CODE FAULT!  ( x wheel# fault# -- )  put a fault on the simulated board
+   (wheel# 0 left, 1 right; fault# 0 stall, x a flag; 1 load, x 0 to 100
+   percent; 2 encoder, x false: it stops counting), via inject_fault.
 END-CODE
 : STALL-LEFT  ( -- )   -1 0 0 FAULT! ;   \ the left wheel is blocked: its motor turns no more
 : STALL-RIGHT  ( -- )   -1 1 0 FAULT! ;   \ the right wheel is blocked

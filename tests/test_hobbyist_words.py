@@ -196,7 +196,7 @@ def test_every_fault_word_is_refused_with_a_clear_message_on_a_board_on_a_link(l
 
 @pytest.fixture(scope="module")
 def link():
-    m = hobbyist(rcl.open(port="rclsim://?rate=4"))
+    m = hobbyist(rcl.open(port="rclsim://"))
     yield m
     m.board.close()
 

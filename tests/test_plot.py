@@ -187,7 +187,8 @@ def test_an_unknown_picture_type_is_refused_by_name(square):
 
 def test_without_matplotlib_the_message_gives_a_command_that_installs_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)    # import fails
-    with pytest.raises(plot.PlotError, match=r"pip install matplotlib .*pip install -e '\.\[plot\]'"):
+    command = r"pip install matplotlib .*pip install -e '\.\[plot\]'"
+    with pytest.raises(plot.PlotError, match=command):
         plot.require_matplotlib()
 
 

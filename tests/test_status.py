@@ -62,6 +62,10 @@ def test_status_on_a_linked_board_shows_the_link_and_rcls_own_pose():
         line = status.linked_text(m)
         assert line.startswith("link up: rcl-board (simulated R-E Robot), ")
         assert re.search(r"  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 0$", line)
+        # wider than 80 columns: the link's details go first, the pose stays
+        assert len(line) > 79
+        assert re.fullmatch(r"link up  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 0",
+                            status.linked_text(m, 79))
     finally:
         m.board.close()
 
@@ -69,8 +73,8 @@ def test_status_on_a_linked_board_shows_the_link_and_rcls_own_pose():
 def busy_system():
     """Every field of the status line showing, the numbers at their widest."""
     m = rcl.open()
-    m.evaluate("23 59 SET-CLOCK 1 2 3 4 5 6 7 8 9 10 11 12  MOVING ON  500. Q-AT 2!  1000. END-AT 2!"
-               "  BEEP-ON")
+    m.evaluate("23 59 SET-CLOCK 1 2 3 4 5 6 7 8 9 10 11 12"
+               "  MOVING ON  500. Q-AT 2!  1000. END-AT 2!  BEEP-ON")
     m.sim.place(-123.456, -456.789, 359.96)
     return m
 
@@ -96,12 +100,9 @@ def test_status_heading_wraps_to_0_and_a_small_negative_shows_as_0_0():
     assert "x -0.1 y 0.0 in  heading 0.0  " in status.text(m)
 
 
-def test_status_over_a_link_fits_79_columns_by_shortening_the_link_state():
-    m = rcl.open(port="rclsim://?rate=4")
-    try:
-        m.evaluate("RERB 2 MPH 1 FEET FORWARD .POSE 1 2")
-        assert len(status.linked_text(m)) > 79              # the whole line is wider
-        line = status.linked_text(m, 79)
-        assert re.fullmatch(r"link up  x 1[12]\.\d y 0\.0 in  heading 0\.0 \(RCL's\)  stack 2", line)
-    finally:
-        m.board.close()
+def test_one_decimal_never_shows_minus_zero_nor_a_heading_of_360():
+    # rcl-board's status line writes the pose with these too
+    assert [status.heading_text(h) for h in (359.96, 359.94, -0.04, 720.25, 90.0)] == \
+        ["0.0", "359.9", "0.0", "0.2", "90.0"]
+    assert [status.tenths(v) for v in (-0.04, -0.05001, 0.04, 12.34)] == \
+        ["0.0", "-0.1", "0.0", "12.3"]

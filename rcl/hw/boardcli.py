@@ -31,6 +31,7 @@ import tty
 from rcl.hw import protocol as P
 from rcl.hw.server import BoardServer
 from rcl.sim.observe import Sim
+from rcl.status import heading_text, tenths
 
 
 def parse_args(argv):
@@ -89,8 +90,9 @@ class Status:
         self.next = time.monotonic() + 0.5
         s, sim = self.server, Sim(self.server.board)
         x, y, h = sim.pose
-        sys.stderr.write("\rticks %d  pose %.1f in %.1f in %.0f deg  link %s  watchdog %d  "
-                         % (s.board.ticks, x, y, h, link, s.stats["watchdog"]))
+        sys.stderr.write("\rticks %d  pose %s in %s in %s deg  link %s  watchdog %d  "
+                         % (s.board.ticks, tenths(x), tenths(y), heading_text(h), link,
+                            s.stats["watchdog"]))
         sys.stderr.flush()
 
 

@@ -13,9 +13,9 @@ FAULTS = ("stall", "load", "encoder")
 WHEELS = ("left", "right")
 
 
-@prim("FAULT!", "( value wheel fault -- ) fault 0 stall (value a flag), 1 load "
-      "(value 0 to 100 percent), 2 encoder (value false: stops counting); "
-      "wheel 0 left 1 right", hidden=True)
+@prim("FAULT!", "( x wheel# fault# -- ) a fault on a wheel (0 left, 1 right): "
+      "fault 0 stall (x a flag), 1 load (x 0 to 100 percent), 2 encoder "
+      "(x false: it stops counting)", hidden=True)
 def fault_store(m):
     fault, wheel, value = m.s.pop(), m.s.pop(), signed(m.s.pop())
     if fault >= len(FAULTS) or wheel >= len(WHEELS):
