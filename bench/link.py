@@ -1,5 +1,5 @@
-"""Figures of the link (README, Performance): bytes per tick each way, ticks
-late or missed, and the host's CPU share, while both wheels move.
+"""Figures of the link (docs/performance.md, The link): bytes per tick each
+way, ticks late or missed, and the host's CPU share, while both wheels move.
 
     python3 bench/link.py [--seconds 600]
 

@@ -1,4 +1,4 @@
-"""Robustness figures of the whole system (README's Robustness section).
+"""Robustness figures of the whole system (docs/performance.md, Robustness).
 
     python3 bench/robustness.py [--lines N] [--trials N] [--seed S]
 

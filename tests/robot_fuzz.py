@@ -1,6 +1,6 @@
 """Random lines for the whole system (rcl.open()), hostile ones included,
 and the checks made after each: shared by tests/test_fuzz_robot.py and
-bench/fuzz_robot.py (which prints the figures README quotes).
+bench/robustness.py (which prints the figures docs/performance.md quotes).
 
 A line is a few tokens: words of the RCL dictionary, numbers of every
 size, commands with units, and hostile pieces (interrupts off, masked, the
