@@ -236,7 +236,10 @@ $("rate").onchange = () => {
   if (ctl) Atomics.store(ctl, 1, rate() > 0 ? rate() * 1000 : -1);
   vm.post("rate", { rate: rate() });
 };
-if (ctl) Atomics.store(ctl, 1, 1000);
+if (options.rate !== undefined && [...$("rate").options].some((o) => o.value === options.rate)) {
+  $("rate").value = options.rate;
+}
+if (ctl) Atomics.store(ctl, 1, rate() > 0 ? rate() * 1000 : -1);
 $("stop").onclick = () => vm.stop();
 $("share").onclick = share;
 $("programs").onchange = () => {
@@ -303,6 +306,13 @@ window.rcl = {
   time() { return vm.frame ? vm.frame.t : 0; },
   stop() { vm.stop(); },
   view() { return view.state(); },
+  // the console's text, its last `rows` lines
+  screen(rows = 200) {
+    if (!term.term) return "";
+    const b = term.term.buffer.active, out = [];
+    for (let i = Math.max(0, b.length - rows); i < b.length; i++) out.push(b.getLine(i).translateToString(true));
+    return out.join("\n").replace(/\n+$/, "");
+  },
   busy() { return busy; },
   cached() { return caches.keys().then((k) => k.some((n) => n.startsWith("rcl-site-") && n.endsWith("-complete"))); },
 };

@@ -50,7 +50,7 @@ function send(kind, data) {
     data.destroy();
     post("frame", frame);
     const r = rateAsked();
-    if (r !== null && r !== session.rate) session.set_rate(r);
+    if (session && r !== null && r !== session.rate) session.set_rate(r);
   } else if (kind === "files") {
     post("files", data.toJs());
     data.destroy();
