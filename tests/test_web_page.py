@@ -152,24 +152,24 @@ def open_page(d, url):
 
 
 def wait_ready(d):
-    result = d.execute_async_script(
-        "const done = arguments[0];"
-        "window.rcl.ready.then(() => done('ready'), (e) => done('failed: ' + e));")
-    assert result == "ready"
+    assert call(d, "window.rcl.ready.then(() => 'ready')") == "ready"
 
 
 def call(d, expression):
-    """A window.rcl Promise's value."""
-    return d.execute_async_script(
-        "const done = arguments[0]; Promise.resolve(%s).then(done, (e) => done('failed: ' + e));"
+    """A window.rcl Promise's value (polled: one long script call would
+    outlast the driver's own timeout)."""
+    d.execute_script(
+        "window.__result = null; Promise.resolve(%s).then("
+        "(v) => { window.__result = {v: v}; }, (e) => { window.__result = {v: 'failed: ' + e}; });"
         % expression)
+    return wait_for(d, "window.__result", "an answer to " + expression)["v"]
 
 
 def wait_for(d, script, what, timeout=PATIENCE):
     """Poll a page expression until it is truthy (bounded, generously)."""
     end = time.monotonic() + timeout
     while time.monotonic() < end:
-        value = d.execute_script("return " + script)
+        value = d.execute_script("return window.rcl && (%s)" % script)
         if value:
             return value
         time.sleep(0.05)

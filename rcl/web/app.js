@@ -123,6 +123,7 @@ function ready(data) {
   term.ready(data.prompt);
   running(false);
   window.rcl.startup = data.ms;
+  window.rcl.readyAt = performance.now();
   vm.resolveReady(true);
   vm.ask("programs", {}).then(fillPrograms);
   sharedProgram();
