@@ -23,6 +23,7 @@ import time
 
 import rcl
 from rcl import status
+from rcl.board import CLOCK_HZ
 from rcl.cli import BANNER, Output, version
 from rcl.plot import FERR_LIMIT
 from rcl.repl import Repl
@@ -32,8 +33,10 @@ from rcl.terminal import search_order_names
 from rcl.track import COUNTS_PER_INCH, Track
 
 FRAME_S = 1 / 30            # wall seconds between two frames sent to the page
-FIGURE_S = 1 / 8            # and between two redrawings of Fig. 1
-FIGURE_ROWS = 1500          # Fig. 1 shows the last rows: 15 s of motion
+FIGURE_S = 1 / 4            # and between two redrawings of Fig. 1 (rcl.track: not free)
+FIGURE_ROWS = 1000          # Fig. 1 shows the last rows: 10 s of motion
+CATCH_UP_S = 0.1            # wall seconds an idle catch-up may take
+SHORTEST_SLEEP_S = 0.002    # shorter waits are left to the next tick's
 
 
 class PageStream:
@@ -122,10 +125,15 @@ class Frames(Trace):
 
 
 class RatePacer(Pacer):
-    """rcl.sim.pace.Pacer at `rate` times the wall clock; the page's sleep."""
+    """rcl.sim.pace.Pacer at `rate` times the wall clock; the page's sleep.
+    A wait too short to sleep well is skipped: the next tick's due time
+    is absolute, so the pace is kept all the same."""
 
     def __init__(self, clock, rate, sleep):
-        super().__init__(clock, wall=lambda: time.monotonic() * rate, sleep=lambda s: sleep(s / rate))
+        def wait(s):
+            if s / rate >= SHORTEST_SLEEP_S:
+                sleep(s / rate)
+        super().__init__(clock, wall=lambda: time.monotonic() * rate, sleep=wait)
 
 
 class Session:
@@ -145,6 +153,7 @@ class Session:
     def banner(self):
         """The terminal's first line, and the first prompt."""
         self.out.write(BANNER % (version(), "simulated board, in a browser tab") + "\n")
+        self.set_rate(self.rate)                  # the page's time starts now
         self.prompt = self.repl.begin_line()
         return self.prompt
 
@@ -157,6 +166,7 @@ class Session:
         return self.prompt
 
     def run(self, line, shown):
+        self.catch_up()
         self.out.redraw(" ")                      # F83's blank after the line
         self.out.tail = shown + line + " "
         try:
@@ -192,8 +202,27 @@ class Session:
             if typed else []
 
     def catch_up(self):
-        """Between lines the board's clock keeps pace with the page's."""
-        self.repl.catch_up()
+        """Between lines the board's clock keeps pace with the page's, as
+        the terminal's prompt does (Repl.catch_up), for at most
+        CATCH_UP_S of wall time a call: a rate the machine cannot follow
+        (an idle RCL board still runs its control loop each tick) moves
+        the page's time on instead, so the next line never waits long."""
+        pacer = self.m.board.pacer
+        if pacer is None:
+            return
+        self.m.board.pacer = None                 # the stretch is due already
+        try:
+            end = time.monotonic() + CATCH_UP_S
+            while time.monotonic() < end:
+                behind = pacer.wall() - pacer.start_wall - \
+                    (self.m.clock - pacer.start_clock) / CLOCK_HZ
+                if behind <= 0:
+                    break
+                self.m.sim.run(min(behind, 0.5))
+            else:
+                pacer = RatePacer(self.m.clock, self.rate, self.sleep)
+        finally:
+            self.m.board.pacer = pacer
         self.frame()
 
     # ------------------------------------------------------------- time
