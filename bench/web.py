@@ -12,7 +12,9 @@ Needs node/npm (to build), chromium, chromedriver and selenium. Prints:
     bench/mailbot.py runs it), and their ratio;
 (3) drawings per second of the live view while both wheels drive, in
     real time (a 3.4-foot move at 2 MPH and a 25.5 IPS square);
-(4) the size of the built site, as served and as gzip would send it.
+(4) the size of the built site, as served and as gzip would send it;
+(5) Stop during a real-time mile: milliseconds from the key to the
+    prompt back (the word stopped, motors off).
 """
 import argparse
 import gzip
@@ -104,6 +106,24 @@ def screenshot(d, url, path):
     d.save_screenshot(path)
 
 
+def stop_latency(d, tries=5):
+    """Milliseconds from Stop (window.rcl.stop) to the prompt back, the
+    motors off, in the middle of a real-time `1 MILES FORWARD`."""
+    d.execute_script("const r = document.getElementById('rate'); r.value = '1';"
+                     "r.dispatchEvent(new Event('change'));")
+    out = []
+    for _ in range(tries):
+        d.execute_script("window.rcl.evaluate('1 MILES FORWARD')")
+        while not call(d, "window.rcl.pose()")["x"] or not d.execute_script(
+                "return window.rcl.busy() && window.rcl.view().pose.t > 0"):
+            time.sleep(0.05)
+        time.sleep(1.0)
+        out.append(call(d, "new Promise((done) => { const t = performance.now(); window.rcl.stop();"
+                           "(function poll() { window.rcl.busy() ? setTimeout(poll, 1)"
+                           " : done(performance.now() - t); })(); })"))
+    return out
+
+
 def site_size(folder):
     files = [p for p in pathlib.Path(folder).rglob("*") if p.is_file()]
     raw = sum(p.stat().st_size for p in files)
@@ -147,6 +167,9 @@ def main():
         fps, seconds = drawings_per_second(d)
         print("(3) live view while both wheels drive, real time: %.0f drawings a second "
               "over %.1f s" % (fps, seconds))
+        stops = stop_latency(d)
+        print("(5) Stop in a real-time mile to the prompt back: %s ms (worst %.0f ms)"
+              % (" ".join("%.0f" % s for s in stops), max(stops)))
     finally:
         d.quit()
         server.shutdown()

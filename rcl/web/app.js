@@ -112,7 +112,8 @@ let userFiles = {};
 function headless() {
   // embed mode: no console shown; lines still run through the same shell
   return {
-    write() {}, read() {}, prompt: "",
+    write() {}, prompt: "",
+    read(kind) { vm.answer(kind === "key" ? "\r" : ""); },   // no keyboard here: an empty line
     ready(p) { this.prompt = p; },
     type(text) { for (const line of text.split("\n")) vm.submit(line, this.prompt).then((p) => this.ready(p)); },
   };
