@@ -246,7 +246,8 @@ class Session:
         self.frames.sent = time.monotonic()
         data = self.state()
         data["rows"] = [list(r) for r in rows]
-        if rows and time.monotonic() - self.frames.drawn >= FIGURE_S or force:
+        every = FIGURE_S if self.rate else 4 * FIGURE_S       # flat out: the run comes first
+        if rows and time.monotonic() - self.frames.drawn >= every or force:
             data["figure"] = self.frames.figure()
         self.send("frame", data)
 
