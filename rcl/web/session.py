@@ -1,0 +1,280 @@
+"""The page's Python side: rcl's prompt for a browser tab, run by the
+page's Web Worker inside Pyodide. Lines in; output, prompts and per-tick
+observations out. As rcl/repl.py is for the terminal, and it is
+rcl/repl.py's own shell (Repl) that runs each line: the ` ok`, the error
+texts, the `NAME]` continuation prompt, abandoned definitions, #help.
+
+    s = Session(send)              RCL loaded on a simulated board, as `rcl` does
+    s.submit("2 3 + .")            -> the next line's prompt ('' or 'SQ] ')
+    s.complete("FORW")             -> ["FORWARD", ...] for TAB
+    s.set_rate(10)                 virtual time 10x the wall clock (0: flat out)
+
+`send(kind, data)` is the page's: ("out", text) as the machine prints,
+("frame", {...}) with the ticks' rows since the last frame and the status
+line, ("files", [names]) when a line wrote files (SAVE-SYSTEM).
+
+Ctrl-C reaches the machine as Python's SIGINT (Pyodide's interrupt
+buffer), which the machine already turns into a break at its next
+primitive, motors first, as in the terminal; `sleep` (the pacer's wait)
+is the page's, and wakes at once on that interrupt.
+"""
+import os
+import time
+
+import rcl
+from rcl import status
+from rcl.board import CLOCK_HZ
+from rcl.cli import BANNER, Output, version
+from rcl.plot import FERR_LIMIT
+from rcl.repl import Repl
+from rcl.sim.observe import Trace
+from rcl.sim.pace import Pacer
+from rcl.terminal import search_order_names
+from rcl.track import COUNTS_PER_INCH, Track
+
+FRAME_S = 1 / 30            # wall seconds between two frames sent to the page
+FIGURE_S = 1 / 4            # and between two redrawings of Fig. 1 (rcl.track: not free)
+FIGURE_ROWS = 1000          # Fig. 1 shows the last rows: 10 s of motion
+CATCH_UP_S = 0.1            # wall seconds an idle catch-up may take
+SHORTEST_SLEEP_S = 0.002    # shorter waits are left to the next tick's
+
+
+class PageStream:
+    """What the machine prints, to the page as it comes."""
+
+    def __init__(self, send):
+        self.send = send
+
+    def write(self, text):
+        if text:
+            self.send("out", text)
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return False
+
+
+class PageTerminal:
+    """The page reads the lines: the shell only asks for a line when a word
+    does (ACCEPT, KEY), through the page's blocking `read_line`."""
+
+    rewinds = False
+
+    def __init__(self, read_line=None, read_key=None):
+        self.read_line, self.read_key_fn = read_line, read_key
+
+    def read(self, shown):
+        if self.read_line is None:
+            raise EOFError
+        line = self.read_line(shown)
+        if line is None:
+            raise EOFError
+        return line
+
+    def read_key(self):
+        if self.read_key_fn is None:
+            raise rcl.ForthError(-39, "No input")
+        return self.read_key_fn()
+
+
+class Frames(Trace):
+    """The board's observation hook for the page: rcl.sim.observe.Trace's
+    rows (one per tick in which something changed), sent in frames of
+    about 30 a second of wall time with the status line."""
+
+    def __init__(self, session):
+        self.session = session
+        self.sent = self.drawn = time.monotonic()
+        self.recent = []                  # the rows Fig. 1 shows
+        session.frames = self
+        super().__init__(session.m.board, keep=True)
+
+    def __call__(self, board):
+        before = len(self.rows)
+        super().__call__(board)
+        if len(self.rows) > before:
+            self.recent.append(self.rows[-1])
+            if len(self.recent) > 2 * FIGURE_ROWS:
+                del self.recent[:-FIGURE_ROWS]
+        if time.monotonic() - self.sent >= FRAME_S:
+            self.session.frame()
+
+    def figure(self):
+        """Fig. 1 of the last rows, from rcl.track (what rcl.plot draws):
+        time (idle stretches cut to 2 s), each wheel's speed and command
+        in in/s, the breakpoints, the following error in counts."""
+        self.drawn = time.monotonic()
+        track = Track(self.recent[-FIGURE_ROWS:], self.FIELDS)
+        if not track.n:
+            return None
+        times, cuts = track.motion_time()
+        fig = {"t": times, "cuts": cuts, "limit": FERR_LIMIT, "acc": [], "dec": []}
+        for wheel in ("left", "right"):
+            fig["speed_" + wheel] = [v / COUNTS_PER_INCH for v in track.speed(wheel)]
+            ref = track.reference(wheel)
+            fig["ref_" + wheel] = [v / COUNTS_PER_INCH for v in ref]
+            fig["ferr_" + wheel] = [[times[i], e] for i, e in track.following_error(wheel)]
+            for move in track.moves:
+                bp = move.breakpoints[wheel]
+                if bp is not None:
+                    fig["acc"].append([times[bp[0]], ref[bp[0]] / COUNTS_PER_INCH])
+                    fig["dec"].append([times[bp[1]], ref[bp[1]] / COUNTS_PER_INCH])
+        return fig
+
+
+class RatePacer(Pacer):
+    """rcl.sim.pace.Pacer at `rate` times the wall clock; the page's sleep.
+    A wait too short to sleep well is skipped: the next tick's due time
+    is absolute, so the pace is kept all the same."""
+
+    def __init__(self, clock, rate, sleep):
+        def wait(s):
+            if s / rate >= SHORTEST_SLEEP_S:
+                sleep(s / rate)
+        super().__init__(clock, wall=lambda: time.monotonic() * rate, sleep=wait)
+
+
+class Session:
+    def __init__(self, send, sleep=time.sleep, read_line=None, read_key=None,
+                 image=None, rate=1.0, folder=None):
+        self.send, self.sleep = send, sleep
+        self.folder = folder or os.getcwd()
+        self.out = Output(PageStream(send), flush_each=True)
+        self.m = rcl.open(write=self.out.write, image=image)
+        self.repl = Repl(self.m, self.out, term=PageTerminal(read_line, read_key))
+        self.rate = None
+        self.set_rate(rate)
+        Frames(self)
+        self.files = self.listing()
+        self.prompt = ""
+
+    def banner(self):
+        """The terminal's first line, and the first prompt."""
+        self.out.write(BANNER % (version(), "simulated board, in a browser tab") + "\n")
+        self.set_rate(self.rate)                  # the page's time starts now
+        self.prompt = self.repl.begin_line()
+        return self.prompt
+
+    # ------------------------------------------------------------ lines
+    def submit(self, line, shown=""):
+        """Run one typed line as the terminal's prompt does (the page has
+        echoed it after `shown`, the prompt); -> the next line's prompt."""
+        self.run(line, shown)
+        self.prompt = self.repl.begin_line()
+        return self.prompt
+
+    def run(self, line, shown):
+        self.catch_up()
+        self.out.redraw(" ")                      # F83's blank after the line
+        self.out.tail = shown + line + " "
+        try:
+            self.repl.onecmd(line)
+        finally:
+            self.frame(force=True)
+            self.report_files()
+
+    def evaluate(self, text):
+        """window.rcl.evaluate: each line as if typed (the console shows
+        it all but the last prompt, `self.prompt`); -> what the lines
+        printed, ` ok` and error texts included."""
+        printed, send = [], self.out.stream.send
+
+        def keep(kind, data):
+            printed.append(data)
+            send(kind, data)
+        for i, line in enumerate(text.split("\n")):
+            send("out", (self.prompt if i else "") + line)
+            printed.append("\n" if i else "")
+            self.out.stream.send = keep
+            try:
+                self.run(line, self.prompt)
+            finally:
+                self.out.stream.send = send
+            self.prompt = self.repl.begin_line()
+        return "".join(printed)
+
+    def complete(self, typed):
+        """TAB: the words of the search order starting with `typed`."""
+        key = typed.upper()
+        return [name for name in search_order_names(self.m) if name.upper().startswith(key)] \
+            if typed else []
+
+    def catch_up(self):
+        """Between lines the board's clock keeps pace with the page's, as
+        the terminal's prompt does (Repl.catch_up), for at most
+        CATCH_UP_S of wall time a call: a rate the machine cannot follow
+        (an idle RCL board still runs its control loop each tick) moves
+        the page's time on instead, so the next line never waits long."""
+        pacer = self.m.board.pacer
+        if pacer is None:
+            return
+        self.m.board.pacer = None                 # the stretch is due already
+        try:
+            end = time.monotonic() + CATCH_UP_S
+            while time.monotonic() < end:
+                behind = pacer.wall() - pacer.start_wall - \
+                    (self.m.clock - pacer.start_clock) / CLOCK_HZ
+                if behind <= 0:
+                    break
+                self.m.sim.run(min(behind, 0.5))
+            else:
+                pacer = RatePacer(self.m.clock, self.rate, self.sleep)
+        finally:
+            self.m.board.pacer = pacer
+        self.frame()
+
+    # ------------------------------------------------------------- time
+    def set_rate(self, rate):
+        """Virtual seconds per wall second; 0: as fast as the machine goes."""
+        rate = float(rate)
+        self.rate = rate
+        self.m.board.pacer = RatePacer(self.m.clock, rate, self.sleep) if rate > 0 else None
+
+    # ----------------------------------------------------------- frames
+    def state(self):
+        """The robot now, as the status line and .POSE say it."""
+        sim = self.m.sim
+        x, y, heading = sim.pose
+        return {"t": sim.seconds, "x": x, "y": y, "heading": heading % 360,
+                "arm": sim.arm, "jaw": sim.jaw, "status": status.text(self.m),
+                "moving": status.move_text(self.m), "rate": self.rate}
+
+    def frame(self, force=False):
+        rows, self.frames.rows = self.frames.rows, []
+        self.frames.sent = time.monotonic()
+        data = self.state()
+        data["rows"] = [list(r) for r in rows]
+        every = FIGURE_S if self.rate else 4 * FIGURE_S       # flat out: the run comes first
+        if rows and time.monotonic() - self.frames.drawn >= every or force:
+            data["figure"] = self.frames.figure()
+        self.send("frame", data)
+
+    # ------------------------------------------------------------ files
+    def programs(self):
+        """The article's listings and RCL's screens, to open in the page:
+        [(name, text)], examples first."""
+        root = self.m.screens_dir
+        out = []
+        for sub in ("examples", ""):
+            folder = os.path.join(root, sub)
+            for name in sorted(os.listdir(folder)):
+                if name.endswith(".fs"):
+                    with open(os.path.join(folder, name), encoding="latin-1") as f:
+                        out.append([os.path.join(sub, name) if sub else name, f.read()])
+        return out
+
+    def listing(self):
+        try:
+            return {e.name: e.stat().st_mtime_ns for e in os.scandir(self.folder) if e.is_file()}
+        except OSError:
+            return {}
+
+    def report_files(self):
+        """Files a line wrote (SAVE-SYSTEM's image): the page offers them."""
+        now = self.listing()
+        changed = sorted(n for n, t in now.items() if self.files.get(n) != t)
+        self.files = now
+        if changed:
+            self.send("files", changed)

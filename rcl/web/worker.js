@@ -1,0 +1,126 @@
+// The VM's Web Worker: Pyodide, the rcl wheel, and rcl.web.session.Session.
+// The page never waits on it: lines go in as messages, output and frames
+// come out as messages while the word runs.
+//
+// Shared memory (when the page is cross-origin isolated):
+//   ctl  Int32Array(4): [0] Pyodide's interrupt buffer (2 = Ctrl-C), also
+//        what the pacer's sleep waits on, so a Stop wakes it at once;
+//        [1] the rate the page asks for, x1000 (-1: flat out);
+//        [2] a typed line or key is ready in io (ACCEPT, KEY)
+//   io   Uint8Array: [0..3] length, then the line's UTF-8 bytes
+import { loadPyodide } from "./pyodide/pyodide.mjs";
+
+let py = null, session = null, ctl = null, io = null;
+const post = (type, data) => self.postMessage({ type, data });
+
+function sleep(seconds) {
+  const ms = Math.max(0, seconds * 1000);
+  if (ctl) { Atomics.wait(ctl, 0, 0, ms); return; }
+  const end = performance.now() + ms;          // not isolated: no other way
+  while (performance.now() < end) { /* wait */ }
+}
+
+function rateAsked() {
+  if (!ctl) return null;
+  const r = Atomics.load(ctl, 1);
+  return r < 0 ? 0 : r / 1000;
+}
+
+// A word reads the keyboard (ACCEPT, KEY): ask the page, wait for its answer.
+function waitInput(kind, shown) {
+  if (!ctl) return null;                        // no shared memory: no input
+  Atomics.store(ctl, 2, 0);
+  post("read", { kind, shown });
+  while (Atomics.load(ctl, 2) === 0) {
+    if (Atomics.load(ctl, 0) === 2) return null; // Ctrl-C while waiting
+    Atomics.wait(ctl, 2, 0, 50);
+  }
+  const n = new DataView(io.buffer).getInt32(0, true);
+  return new TextDecoder().decode(io.slice(4, 4 + n));
+}
+const readLine = (shown) => waitInput("line", shown);
+function readKey() {
+  const k = waitInput("key", "");
+  return k === null || k === "" ? 13 : k.codePointAt(0);
+}
+
+function send(kind, data) {
+  if (kind === "frame") {
+    const frame = data.toJs({ dict_converter: Object.fromEntries });
+    data.destroy();
+    post("frame", frame);
+    const r = rateAsked();
+    if (session && r !== null && r !== session.rate) session.set_rate(r);
+  } else if (kind === "files") {
+    post("files", data.toJs());
+    data.destroy();
+  } else {
+    post(kind, data);
+  }
+}
+
+async function start(msg) {
+  const t0 = performance.now();
+  ctl = msg.ctl ? new Int32Array(msg.ctl) : null;
+  io = msg.io ? new Uint8Array(msg.io) : null;
+  const site = await (await fetch("./site.json")).json();
+  py = await loadPyodide({ indexURL: new URL("./pyodide/", location.href).href });
+  const purelib = py.runPython("import sysconfig; sysconfig.get_paths()['purelib']");
+  const wheel = await (await fetch("./" + site.wheel)).arrayBuffer();
+  py.unpackArchive(new Uint8Array(wheel), "wheel", { extractDir: purelib });
+  if (ctl) py.setInterruptBuffer(ctl);
+  py.FS.mkdirTree("/home/rcl");
+  py.FS.chdir("/home/rcl");
+  for (const [name, text] of Object.entries(msg.files || {})) py.FS.writeFile(name, text);
+  let image = null;
+  if (msg.image) {
+    py.FS.writeFile("/tmp/start.img", new Uint8Array(msg.image));
+    image = "/tmp/start.img";
+  }
+  const Session = py.pyimport("rcl.web.session").Session;
+  const kw = { sleep, read_line: readLine, read_key: readKey, rate: msg.rate };
+  if (image) kw.image = image;
+  session = Session.callKwargs(send, kw);
+  const prompt = session.banner();
+  post("ready", { prompt, ms: performance.now() - t0, version: site.version,
+                  isolated: !!ctl });
+  session.frame();
+}
+
+function guarded(fn) {
+  try { return fn(); } catch (e) { post("out", "\n(page) " + e.message + "\n"); return null; }
+}
+
+const handlers = {
+  start: (msg) => start(msg).catch((e) => post("failed", String(e && e.message || e))),
+  line: (msg) => post("prompt", guarded(() => session.submit(msg.text, msg.shown || "")) || ""),
+  evaluate: (msg) => post("result", { id: msg.id, value: guarded(() => session.evaluate(msg.text)) }),
+  complete: (msg) => {
+    const names = guarded(() => session.complete(msg.text));
+    post("result", { id: msg.id, value: names ? names.toJs() : [] });
+  },
+  pose: (msg) => {
+    const s = session.state().toJs({ dict_converter: Object.fromEntries });
+    post("result", { id: msg.id, value: s });
+  },
+  programs: (msg) => {
+    const list = guarded(() => session.programs());
+    post("result", { id: msg.id, value: list ? list.toJs() : [] });
+  },
+  "prompt-text": (msg) => post("result", { id: msg.id, value: session.prompt }),
+  idle: () => guarded(() => session.catch_up()),
+  rate: (msg) => guarded(() => session.set_rate(msg.rate)),
+  write: (msg) => py.FS.writeFile(msg.name, msg.text),
+  remove: (msg) => { try { py.FS.unlink(msg.name); } catch (e) { /* gone already */ } },
+  fetch: (msg) => {
+    let data = null;
+    try { data = py.FS.readFile(msg.name); } catch (e) { /* none */ }
+    post("result", { id: msg.id, value: data });
+  },
+};
+
+self.onmessage = (e) => {
+  if (ctl) Atomics.store(ctl, 0, 0);           // a Ctrl-C that came after its word
+  const h = handlers[e.data.type];
+  if (h) h(e.data);
+};

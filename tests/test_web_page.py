@@ -1,0 +1,297 @@
+"""rcl in a browser tab (rcl/web): the site `rcl-web build` makes, run
+under Node with the pinned Pyodide (no browser) and in Debian's headless
+Chromium driven by selenium.
+
+The site is built once per session (npm ci of rcl/web's lock). Without
+node/npm or chromium/chromedriver the tests skip, naming what to install;
+with RCL_REQUIRE_WEB=1 (CI) they fail instead. Virtual time is
+deterministic: the counts in the page are exactly those of rcl.open()
+here. Waits are bounded by what the page reports (ready, busy, the view's
+pose), generously; nothing asserts on wall-clock speed.
+"""
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import threading
+import time
+
+import pytest
+
+import rcl
+
+REQUIRED = os.environ.get("RCL_REQUIRE_WEB") == "1"
+NODE_LINE = "node and npm are needed: sudo apt-get install nodejs npm"
+BROWSER_LINE = ("chromium, chromedriver and selenium are needed: "
+                "sudo apt-get install chromium chromium-driver; pip install selenium")
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+PATIENCE = 600                 # seconds: a bound on waits, never an expectation
+COMMAND = "RERB 2 MPH 3.4 FEET FORWARD"
+
+
+def missing(why):
+    if REQUIRED:
+        pytest.fail("RCL_REQUIRE_WEB=1 but " + why)
+    pytest.skip(why)
+
+
+@pytest.fixture(scope="session")
+def site(tmp_path_factory):
+    """The built site: `rcl-web build DIR` (rcl.web.build.build)."""
+    if not (shutil.which("node") and shutil.which("npm")):
+        missing(NODE_LINE)
+    from rcl.web.build import build
+    folder = tmp_path_factory.mktemp("site")
+    build(str(folder))
+    return folder
+
+
+def cpython(lines):
+    """The same lines on rcl.open() here: (wheel counts, pose, output)."""
+    m = rcl.open()
+    out = [m.evaluate(line) for line in lines]
+    return list(m.sim.wheel_counts), [round(v, 6) for v in m.sim.pose], out
+
+
+# ------------------------------------------------------ Node, no browser
+NODE_SCRIPT = r"""
+import { loadPyodide } from "%(site)s/pyodide/pyodide.mjs";
+import fs from "node:fs";
+const site = "%(site)s";
+const info = JSON.parse(fs.readFileSync(site + "/site.json"));
+const py = await loadPyodide({ indexURL: site + "/pyodide/" });
+const purelib = py.runPython("import sysconfig; sysconfig.get_paths()['purelib']");
+py.unpackArchive(new Uint8Array(fs.readFileSync(site + "/" + info.wheel)), "wheel",
+                 { extractDir: purelib });
+py.runPython(fs.readFileSync(0, "utf8"));
+"""
+
+NODE_PYTHON = """
+import json, sys, rcl
+def run(lines):
+    m = rcl.open()
+    out = [m.evaluate(line) for line in lines]
+    return [list(m.sim.wheel_counts), [round(v, 6) for v in m.sim.pose], out]
+mods = [n for n in ("prompt_toolkit", "serial", "usb") if n in sys.modules]
+print(json.dumps({"first": run(%(first)r), "listing1": run(%(listing)r), "modules": mods}))
+"""
+
+FIRST = [COMMAND, ".POSE"]
+LISTING1 = ["INCLUDE examples/listing1.fs", ".POSE"]
+
+
+def test_under_node_the_wheel_loads_and_gives_the_cpython_counts(site, tmp_path):
+    script = tmp_path / "run.mjs"
+    script.write_text(NODE_SCRIPT % {"site": site})
+    done = subprocess.run(["node", str(script)], input=NODE_PYTHON % {"first": FIRST, "listing": LISTING1},
+                          capture_output=True, text=True, timeout=PATIENCE)
+    assert done.returncode == 0, done.stderr[-2000:]
+    got = json.loads(done.stdout.strip().splitlines()[-1])
+    assert got["first"] == list(cpython(FIRST))
+    assert all(1159 <= c <= 1161 for c in got["first"][0])     # 3.4 ft: 1160 counts a wheel
+    assert got["listing1"] == list(cpython(LISTING1))
+    assert got["modules"] == []                     # none of rcl's terminal/link packages
+
+
+# ------------------------------------------------------------ the browser
+def serve(folder):
+    from rcl.web.cli import make_server
+    server = make_server(str(folder), 0)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    return server, "http://127.0.0.1:%d/" % server.server_address[1]
+
+
+@pytest.fixture(scope="module")
+def browsers():
+    """Start fresh headless Chromium profiles; all quit at the end."""
+    if not (CHROMIUM and CHROMEDRIVER):
+        missing(BROWSER_LINE)
+    try:
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+    except ImportError:
+        missing(BROWSER_LINE)
+    started, profiles = [], []
+
+    def start():
+        o = webdriver.ChromeOptions()
+        profile = tempfile.mkdtemp(prefix="rcl-web-profile-")
+        profiles.append(profile)
+        for a in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                  "--disable-background-networking", "--disable-component-update",
+                  "--disable-sync", "--window-size=1400,900", "--user-data-dir=" + profile):
+            o.add_argument(a)
+        o.binary_location = CHROMIUM
+        d = webdriver.Chrome(options=o, service=Service(CHROMEDRIVER))
+        d.set_script_timeout(PATIENCE)
+        started.append(d)
+        return d
+    yield start
+    for d in started:
+        try:
+            d.quit()
+        except Exception:
+            pass
+    for p in profiles:
+        shutil.rmtree(p, ignore_errors=True)
+
+
+@pytest.fixture(scope="module")
+def server(site):
+    srv, url = serve(site)
+    yield url
+    srv.shutdown()
+    srv.server_close()
+
+
+def open_page(d, url):
+    d.get(url)
+    wait_ready(d)
+
+
+def wait_ready(d):
+    assert call(d, "window.rcl.ready.then(() => 'ready')") == "ready"
+
+
+def call(d, expression):
+    """A window.rcl Promise's value (polled: one long script call would
+    outlast the driver's own timeout)."""
+    d.execute_script(
+        "window.__result = null; Promise.resolve(%s).then("
+        "(v) => { window.__result = {v: v}; }, (e) => { window.__result = {v: 'failed: ' + e}; });"
+        % expression)
+    return wait_for(d, "window.__result", "an answer to " + expression)["v"]
+
+
+def wait_for(d, script, what, timeout=PATIENCE):
+    """Poll a page expression until it is truthy (bounded, generously)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = d.execute_script("return window.rcl && (%s)" % script)
+        if value:
+            return value
+        time.sleep(0.05)
+    pytest.fail("the page never reported " + what)
+
+
+def type_line(d, text):
+    from selenium.webdriver.common.by import By
+    box = d.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
+    box.send_keys(text + "\n")
+
+
+def set_rate(d, value):
+    """The time menu: '1' real time, '10', '100', '0' as fast as possible."""
+    d.execute_script("const r = document.getElementById('rate'); r.value = arguments[0];"
+                     "r.dispatchEvent(new Event('change'));", value)
+
+
+def wait_idle(d):
+    wait_for(d, "window.rcl && !window.rcl.busy()", "the end of the word")
+
+
+@pytest.fixture(scope="module")
+def page(browsers, server):
+    """The built site, served locally, open as fast as the machine goes."""
+    d = browsers()
+    open_page(d, server + "?rate=0")
+    return d
+
+
+def test_the_served_site_loads_to_the_ok_prompt(page):
+    assert page.execute_script("return self.crossOriginIsolated") is True
+    assert "F83-style Forth for the R-E Robot" in page.execute_script("return window.rcl.screen()")
+
+
+def test_typed_command_and_pose_print_what_the_terminal_prints(page):
+    type_line(page, COMMAND)
+    wait_idle(page)
+    type_line(page, ".POSE")
+    wait_for(page, "window.rcl.screen().includes('.POSE x ')", "the pose")
+    wait_idle(page)
+    counts, pose, out = cpython(FIRST)
+    screen = page.execute_script("return window.rcl.screen()").splitlines()
+    assert COMMAND + "  ok" in screen
+    assert ".POSE " + out[1] + " ok" in screen                  # x 40.76 in  y 0.00 in ...
+    got = call(page, "window.rcl.pose()")
+    assert [round(got[k], 6) for k in ("x", "y")] == pose[:2]
+
+
+def test_the_drawn_robot_advances_during_a_real_time_move(page, tmp_path):
+    set_rate(page, "1")
+    start = call(page, "window.rcl.pose()")["x"]
+    type_line(page, COMMAND)
+    seen = []
+    end = time.monotonic() + PATIENCE
+    while time.monotonic() < end:
+        v = page.execute_script("return [window.rcl.busy(), window.rcl.view()]")
+        busy, view = v
+        if busy and start + 1 < view["pose"]["x"] < start + 39:
+            seen.append((view["pose"]["x"], view["robot"]["x"], view["frames"]))
+            if len(seen) == 1:
+                page.save_screenshot(str(tmp_path / "moving.png"))
+        if not busy and (seen or view["pose"]["x"] > start + 39):
+            break
+        time.sleep(0.02)
+    assert len(seen) >= 2, "the view never showed the robot between start and end"
+    xs = [s[0] for s in seen]
+    assert xs == sorted(xs) and xs[-1] > xs[0]                   # forward, drawn further right
+    assert seen[-1][1] > seen[0][1] and seen[-1][2] > seen[0][2]
+    assert (tmp_path / "moving.png").stat().st_size > 0
+    wait_idle(page)
+
+
+def test_ctrl_c_stops_a_mile_and_the_next_move_works(page):
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    start = call(page, "window.rcl.pose()")["x"]
+    type_line(page, "1 MILES FORWARD")
+    wait_for(page, "window.rcl.view().pose.x > %f" % (start + 6), "the robot moving")
+    box = page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
+    box.send_keys(Keys.CONTROL, "c")
+    wait_idle(page)
+    lines = page.execute_script("return window.rcl.screen()").splitlines()
+    assert any(line.startswith("1 MILES FORWARD ") and "Interrupted" in line for line in lines)
+    set_rate(page, "0")
+    assert call(page, "window.rcl.evaluate('2 SECONDS MOVING @ .')") == " 0  ok"   # it coasted to rest
+    stopped = call(page, "window.rcl.pose()")["x"]
+    assert stopped < start + 12 * 5280 / 10                     # far short of the mile
+    assert call(page, "window.rcl.evaluate('%s')" % COMMAND) == "  ok"
+    after = call(page, "window.rcl.pose()")["x"]
+    assert after - stopped == pytest.approx(40.8, abs=0.5)      # the 3.4 feet, from where it stopped
+
+
+def test_a_shared_link_opened_in_a_fresh_profile_shows_and_runs_the_program(page, browsers, server):
+    program = "RERB 3 MPH\n2 FEET FORWARD 90 DEGREES LEFT\n.POSE"
+    page.execute_script("document.getElementById('source').value = arguments[0];", program)
+    page.find_element("id", "share").click()
+    link = wait_for(page, "window.rcl.sharedLink", "the link")
+    assert link.startswith(server) and "#p=" in link and "FORWARD" not in link
+    d = browsers()
+    open_page(d, link)
+    wait_for(d, "document.getElementById('source').value", "the program")
+    assert d.execute_script("return document.getElementById('source').value") == program
+    run = d.find_element("id", "run")
+    assert run.is_displayed()
+    run.click()
+    wait_for(d, "window.rcl.screen().includes('heading 90.0 deg')", "the program's end")
+    wait_idle(d)
+    pose = call(d, "window.rcl.pose()")
+    assert pose["x"] == pytest.approx(24, abs=1) and pose["heading"] == pytest.approx(90, abs=1)
+
+
+def test_after_the_first_visit_the_page_loads_with_the_server_stopped(site, browsers):
+    srv, url = serve(site)
+    d = browsers()
+    try:
+        open_page(d, url + "?rate=0")
+        wait_for(d, "window.__cached || (window.rcl.cached().then((c) => window.__cached = c), false)",
+                 "the site cached")
+    finally:
+        srv.shutdown()
+        srv.server_close()
+    d.get(url + "?rate=0")
+    wait_ready(d)
+    assert call(d, "window.rcl.evaluate('2 3 + .')") == " 5  ok"

@@ -1,0 +1,99 @@
+"""The page's Python side (rcl.web.session) and the site's build (rcl.web.build,
+rcl-web) on this Python: no browser, no node. The browser runs this same
+session inside Pyodide (tests/test_web_page.py)."""
+import os
+import subprocess
+import sys
+import zipfile
+
+import rcl
+from rcl.sim.observe import Trace
+from rcl.web import build
+from rcl.web.session import Session
+
+COMMAND = "RERB 2 MPH 3.4 FEET FORWARD"
+
+
+def session(**kw):
+    sent = []
+    s = Session(lambda kind, data: sent.append((kind, data)), rate=0, **kw)
+    s.banner()
+    return s, sent
+
+
+def test_the_first_command_observed_by_the_page_ends_with_rcl_opens_counts():
+    s, sent = session()
+    assert s.submit(COMMAND) == ""
+    m = rcl.open()
+    trace = Trace(m.board, keep=True)
+    m.evaluate(COMMAND)
+    assert s.m.sim.wheel_counts == m.sim.wheel_counts              # watching changes nothing
+    rows = [r for kind, data in sent if kind == "frame" for r in data["rows"]]
+    assert [list(r) for r in trace.rows] == rows                   # the board's own trace
+    assert [r[0] for r in rows] == sorted(r[0] for r in rows)      # in time order
+    last = [data for kind, data in sent if kind == "frame"][-1]
+    assert last["figure"]["acc"] and last["figure"]["limit"] == 100   # Fig. 1: FERR-LIMIT
+
+
+def test_the_screen_is_the_terminals_ok_errors_and_the_open_definitions_prompt():
+    s, sent = session()
+    assert s.evaluate("2 3 + .") == " 5  ok"
+    assert s.submit(": SQ  DUP *") == "SQ] "
+    assert s.submit(";") == ""
+    assert s.evaluate("7 SQ .") == " 49  ok"
+    assert s.evaluate("FOO") == " FOO  ? "
+    assert "FOO" in "".join(data for kind, data in sent if kind == "out")
+
+
+def test_tab_completes_the_words_of_the_search_order():
+    s, _ = session()
+    assert "FORWARD" in s.complete("forw")
+    assert s.complete("") == []
+
+
+def test_save_system_is_offered_to_the_page_as_a_file(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    s, sent = session(folder=str(tmp_path))
+    s.submit("SAVE-SYSTEM mine.img")
+    assert ("files", ["mine.img"]) in sent
+    again = Session(lambda kind, data: None, rate=0, image=str(tmp_path / "mine.img"))
+    assert again.evaluate("2 3 + .") == " 5  ok"
+
+
+def test_the_programs_are_the_articles_listings_and_the_screens():
+    s, _ = session()
+    names = dict(s.programs())
+    assert "examples/listing1.fs" in names and "rcl.fs" in names
+    assert "3.5 FEET FORWARD 90 DEGREES LEFT" in names["examples/listing1.fs"]
+
+
+def test_the_wheel_holds_rcl_its_kernel_and_screens_but_not_the_page(tmp_path):
+    name = build.build_wheel(str(tmp_path))
+    with zipfile.ZipFile(tmp_path / name) as z:
+        files = set(z.namelist())
+        record = z.read("rcl-%s.dist-info/RECORD" % rcl.__version__).decode()
+    assert {"rcl/__init__.py", "rcl/web/session.py", "rcl/screens/rcl.fs",
+            "rcl/screens/examples/listing1.fs"} <= files
+    assert any(f.startswith("rcl/kernel/") for f in files)
+    assert not any(f.endswith((".js", ".html")) or "node_modules" in f for f in files)
+    assert all(f in record for f in files)
+
+
+def rcl_web(*args, path=None):
+    env = dict(os.environ)
+    if path is not None:
+        env["PATH"] = path
+    return subprocess.run([sys.executable, "-m", "rcl.web.cli", *args], capture_output=True,
+                          text=True, timeout=120, env=env)
+
+
+def test_rcl_web_build_says_node_and_npm_are_needed_when_missing(tmp_path):
+    done = rcl_web("build", str(tmp_path / "site"), path=str(tmp_path))
+    assert done.returncode == 1
+    assert "needs node and npm" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_rcl_web_serve_refuses_a_folder_without_a_built_site(tmp_path):
+    done = rcl_web("serve", str(tmp_path), "--no-browser")
+    assert done.returncode == 2
+    assert "rcl-web build" in done.stderr and "Traceback" not in done.stderr
