@@ -23,6 +23,7 @@ BUILDS_A_SIMULATED_BOARD = {
     "rcl/hw/server.py",           # rcl-board and rclsim://: a SimBoard behind a link
     "rcl/hw/boardcli.py",         # rcl-board's command line: the server and its Sim
     "rcl/testing/moves.py",       # RecordingBoard, the SimBoard of rcl.testing's robots
+    "rcl/web/session.py",         # the page's simulated board: its pace and per-tick frames
 }
 OPTIONAL = ("prompt_toolkit", "serial", "usb")
 

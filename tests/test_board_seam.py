@@ -12,7 +12,10 @@ from rcl.words.rclcode import quiet
 ROOT = pathlib.Path(rcl.__file__).parent
 HOOKS = ("out8", "in8", "out16", "in16", "far_fetch8", "far_store8", "port_script",
          "attach", "service", "tick_reads", "stop_motors", "tick_failed", "reconnect",
-         "time_of_day", "set_time_of_day", "trace", "status")
+         "close",                    # safety: leaving a board safe and quiet
+         "time_of_day", "set_time_of_day", "trace", "status",
+         "explain",                  # observation: a cause the board knows (Host too slow)
+         "inject_fault")             # an optional capability: the simulated board's faults
 
 
 def imports_of(path):
