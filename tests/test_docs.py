@@ -134,3 +134,16 @@ def test_the_screens_cite_only_documents_that_ship(path):
     text = open(path, encoding="utf-8").read()
     for cited in re.findall(r"[\w./-]+\.md\b", text):
         assert os.path.exists(os.path.join(ROOT, cited)), cited
+
+
+def test_the_saving_examples_pose_is_what_rcl_prints(tmp_path):
+    """docs/saving.md: a word saved with SAVE-SYSTEM, run from --image."""
+    import subprocess
+    import sys
+    text = open(os.path.join(ROOT, "docs", "saving.md"), encoding="utf-8").read()
+    shown = re.search(r'-e "HOME \.POSE BYE"\n\s+(x .*?deg)\n', text).group(1)
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    run = lambda *a, **k: subprocess.run([sys.executable, "-m", "rcl", *a], cwd=tmp_path,  # noqa: E731
+                                         env=env, capture_output=True, text=True, **k)
+    run(input=": HOME  RERB 2 FEET BACKWARD ;  SAVE-SYSTEM robot.img\n")
+    assert run("--image", "robot.img", "-e", "HOME .POSE BYE", input="").stdout.strip() == shown
