@@ -311,7 +311,7 @@ def run_pipe(m, out, feed):
             m.evaluate(line)
         except rcl.ForthError as e:
             out.write(repl.error_text(e) + "\n")   # from a file: file:line first
-            name = guard.failed(line)
+            name = guard.failed(line, e)
             if name:
                 out.write("%s is abandoned: the lines up to its ; are skipped\n" % name)
             status = 1

@@ -151,7 +151,7 @@ class Repl:
                 self.out.write(" ok")
         except rcl.ForthError as e:
             self.out.write(error_text(e))
-            self.abandoned(line)
+            self.abandoned(line, e)
         except rcl.Bye:
             return False
         except KeyboardInterrupt:
@@ -187,9 +187,9 @@ class Repl:
                 self.m.sim.run(behind)
 
     # ------------------------------------------------- open definitions
-    def abandoned(self, line):
+    def abandoned(self, line, error):
         """After an error: was a definition open? Then skip its other lines."""
-        name = self.guard.failed(line)
+        name = self.guard.failed(line, error)
         if name:
             self.out.write("\n%s is abandoned: the lines up to its ; are skipped, "
                            "not run (Ctrl-C stops skipping)" % name)
@@ -302,7 +302,7 @@ class OpenDefinition:
     error the lines up to one holding `;` are skipped.
 
         before()        before each line runs
-        failed(line)    after it failed: the abandoned definition's name, or ''
+        failed(line, e) after it failed with e: the abandoned definition's name, or ''
         skipping        that name while lines are being skipped
         skip(line)      what to show for a skipped line
     """
@@ -322,11 +322,14 @@ class OpenDefinition:
     def before(self):
         self.last, self.was_open = self.m.dictionary.last, self.m.compiling
 
-    def failed(self, line):
+    def failed(self, line, error):
         d = self.m.dictionary
         opened = d.last != self.last and d.last and d.flags(d.last) & HIDDEN
         if not (self.was_open or opened) or ends_definition(line):
             return ""
+        if error.file and not self.was_open:
+            return ""        # opened in a file the error ended: its ; went with the file
+
         self.skipping = self.name() or "the definition"
         return self.skipping
 

@@ -283,3 +283,10 @@ def test_lines_after_an_error_in_an_open_definition_are_skipped_up_to_its_semico
 
 def test_an_error_in_a_one_line_definition_skips_nothing():
     assert rcl(stdin=": OK 1 foo 2 ;\n3 .\n").stdout == "FOO  ? \n3 \n"
+
+
+def test_an_error_in_a_definition_of_an_included_file_skips_nothing_after_the_file(source):
+    trip = source("\n\n: TRIP 1 TRUN-LEFT 2 ;\n", "trip.fs")
+    done = rcl(stdin="INCLUDE %s\n2 3 + .\n" % trip)
+    assert done.stdout == " %s:3: TRUN-LEFT  ? \n5 \n" % trip
+    assert done.returncode == 1
