@@ -23,6 +23,7 @@ from rcl.forth.memory import (DICT_START, MASK, USER_AREA, WATCH_CODE,
                               WATCH_HEADER, Memory, signed)
 from rcl.forth.outer import Outer
 from rcl.forth.primitives import CLOCK_HZ, REGISTRY
+from rcl.forth.wordloc import Locations
 from rcl import words as _words  # noqa: F401  (registers every word set)
 
 # Forth calls nest as Python calls in compiled code: leave room for the
@@ -71,6 +72,7 @@ class Forth(Inner, Outer):
         self.in_input = False          # waiting in read_key/read_line
         self.in_forth = 0              # evaluate/include calls under way
         self.in_safe_state = False     # running the abort hooks (after an error)
+        self.locations = Locations()   # file:line of the dictionary's code (wordloc.py)
         self._init_inner()
         self._init_outer()
         from rcl.words.blocks import BlockFile
@@ -78,12 +80,13 @@ class Forth(Inner, Outer):
         if type(self)._image is None:
             self._boot()
             type(self)._image = (bytes(self.mem), bytes(self.watch), dict(self.xt_of),
-                                 self.forth_wid, self.root_wid)
+                                 self.forth_wid, self.root_wid, self.locations.copy())
         else:
-            mem, watch, self.xt_of, self.forth_wid, self.root_wid = type(self)._image
+            mem, watch, self.xt_of, self.forth_wid, self.root_wid, places = type(self)._image
             self.mem[:] = mem
             self.watch[:] = watch
             self.xt_of = dict(self.xt_of)
+            self.locations = places.copy()
         self.board = board if board is not None else NullBoard()
         self.board.attach(self)
 

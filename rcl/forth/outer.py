@@ -96,6 +96,7 @@ class Outer:
             if text is None:
                 return False
         src.line += 1
+        self.locations.mark(self.dictionary.here, src.name, src.line)
         self.set_line(src, text)
         return True
 
