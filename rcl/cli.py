@@ -13,16 +13,34 @@ Exit status: 0 at the end of input or on BYE, 1 if an error happened
 outside the interactive prompt (a FILE, a -e, a piped line), 2 for a bad
 command line. Nothing here ever lets a Python traceback reach the user.
 """
-import argparse
-import contextlib
-import io
-import os
 import signal
 import sys
+import threading
 
-import rcl
-from rcl import repl
-from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
+
+def leave_quietly(signum, frame):
+    raise SystemExit(128 + signum)
+
+
+# Ctrl-C while rcl loads (the machine, the words, the board: some 0.4 s)
+# leaves with status 130 and no traceback; nothing runs yet to stop.
+_loading = threading.current_thread() is threading.main_thread() \
+    and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+if _loading:
+    signal.signal(signal.SIGINT, leave_quietly)
+try:
+    import argparse
+    import contextlib
+    import io
+    import os
+
+    import rcl
+    import rcl.forth.machine  # noqa: F401  (the heavy part, while Ctrl-C is quiet)
+    from rcl import repl
+    from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
+finally:
+    if _loading:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")
