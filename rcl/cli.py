@@ -143,6 +143,9 @@ def make_machine(args, write):
     except ImageError as e:
         sys.stderr.write("rcl: --image: %s\n" % e)
         raise SystemExit(2) from None
+    except rcl.ForthError as e:         # the user's screens (--screens) or image failed
+        sys.stderr.write(where(e, "--image" if args.image else "--screens") + "\n")
+        raise SystemExit(1) from None
     if args.start is not None:
         set_time_of_day(m, args.start)
     return m
@@ -300,6 +303,10 @@ def run_startup(m, args, out):
     steps = [(m.include, find_file(path, m), path) for path in args.files]
     steps += [(m.evaluate, words, "-e") for words in args.words]
     for action, arg, name in steps:
+        if action == m.include and is_image(arg):
+            report(out, "%s: a saved system, not Forth source: start from it with "
+                        "rcl --image %s" % (name, name))
+            return False
         try:
             action(arg)
         except rcl.ForthError as e:
@@ -309,6 +316,18 @@ def run_startup(m, args, out):
             report(out, "%s: Interrupted" % name)
             return False
     return True
+
+
+def is_image(path):
+    """Does the file begin as SAVE-SYSTEM's images do (image.MAGIC; image.py
+    is not loaded for this)? A FIFO or device is not opened here."""
+    if not os.path.isfile(path):
+        return False
+    try:
+        with open(path, "rb") as f:
+            return f.read(8) == b"RCLIMAGE"
+    except OSError:
+        return False                  # include says why
 
 
 # -------------------------------------------------------------------- pipe
