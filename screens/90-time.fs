@@ -11,10 +11,8 @@ CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time (after
    ?TICKING's check, at no cost); while IDLE? it counts idle ticks out.
 END-CODE
 : MS  ( milliseconds -- )   (MS) ;   \ wait, Listing 3's calibrated loop
-\ A negative count is refused, as a negative distance is (0 ?DO would take it
-\ as 65535 and wait 18 hours or 45 days).
-: SECONDS  ( seconds -- )   DUP 0< ABORT" Out of range"  0 ?DO 1000 MS LOOP ;   \ wait n times 1000 MS
-: MINUTES  ( minutes -- )   DUP 0< ABORT" Out of range"  0 ?DO 60 SECONDS LOOP ;   \ wait n times 60 SECONDS
+: SECONDS  ( seconds -- )   ?DURATION 0 ?DO 1000 MS LOOP ;   \ wait n times 1000 MS
+: MINUTES  ( minutes -- )   ?DURATION 0 ?DO 60 SECONDS LOOP ;   \ wait n times 60 SECONDS
 : BEEP  ( -- )   BEEP-ON 100 MS BEEP-OFF 100 MS ;   \ two BEEPs are two sounds
 
 \ The time of day is counted in 10 ms ticks since midnight once INSTALL
