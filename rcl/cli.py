@@ -37,6 +37,7 @@ try:
     import rcl
     import rcl.forth.machine  # noqa: F401  (the heavy part, while Ctrl-C is quiet)
     from rcl import repl
+    from rcl.forth import wordloc
     from rcl.sim.board import PER_DAY_ADDR, TICKS_ADDR
 finally:
     if _loading:
@@ -281,12 +282,15 @@ def parse_args(argv):
 
 # ------------------------------------------------------------------- loads
 def where(e, name):
-    """`file:line: text` for an error of a FILE or -e."""
+    """`file:line: text` for an error of a FILE or -e, then the words it
+    came from, if any (wordloc.py)."""
     if e.file:
-        return str(e)
-    if e.code in (-37, -38):
-        return "%s: %s" % (name, e.message)
-    return "%s: %s" % (name, e.display())
+        text = str(e)
+    elif e.code in (-37, -38):
+        text = "%s: %s" % (name, e.message)
+    else:
+        text = "%s: %s" % (name, e.display())
+    return "\n".join([text] + wordloc.describe(e.words()))
 
 
 def report(out, text):

@@ -56,6 +56,7 @@ class ForthError(RclError):
         self.output = ""
         self.file = None
         self.line = None
+        self.backtrace = None     # [(word, file, line)] innermost first (forth/wordloc.py)
 
     def display(self):
         """The text F83 prints between the blanks, with the word if any."""
@@ -70,6 +71,12 @@ class ForthError(RclError):
         if self.word is not None:
             return "%s  %s " % (self.word, self.message)
         return " %s " % self.message
+
+    def words(self):
+        """The words the error came from, innermost first ([(word, file,
+        line)]), if worth showing: not for ABORT and ABORT" (-1, -2), whose
+        message is the program's own word to the user, as F83 shows it."""
+        return [] if self.code in (-1, -2) else (self.backtrace or [])
 
     def __str__(self):
         where = "%s:%s: " % (self.file, self.line) if self.file else ""

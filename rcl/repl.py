@@ -38,6 +38,7 @@ import threading
 
 import rcl
 from rcl import status
+from rcl.forth import wordloc
 from rcl.forth.dictionary import HIDDEN
 from rcl.forth.primitives import CLOCK_HZ
 from rcl.terminal import PlainTerminal, hold_keys, make_terminal, shows_status
@@ -284,10 +285,10 @@ class Repl:
 
 
 def error_text(e):
-    """F83's text for an error; from a file, `file:line:` first (gforth)."""
-    if e.file:
-        return " %s:%s: %s " % (e.file, e.line, e.display())
-    return e.screen()
+    """F83's text for an error; from a file, `file:line:` first (gforth);
+    then, if it came from a word, the word and its callers (wordloc.py)."""
+    text = " %s:%s: %s " % (e.file, e.line, e.display()) if e.file else e.screen()
+    return "\n".join([text] + wordloc.describe(e.words()))
 
 
 def ends_definition(line):

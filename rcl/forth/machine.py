@@ -268,7 +268,7 @@ class Forth(Inner, Outer):
         except Bye:
             raise
         except (Exception, KeyboardInterrupt) as exc:   # never a traceback
-            e = self.forth_error(exc)
+            e = self.traced(exc)
             if e.code == -56:              # QUIT: back to the prompt, stack kept
                 self.quit()
                 return None

@@ -244,7 +244,7 @@ class Outer:
         except (Exception, KeyboardInterrupt) as exc:
             if isinstance(exc, Bye):
                 raise
-            e = self.forth_error(exc)
+            e = self.traced(exc)
             if e.file is None:
                 e.file, e.line = name, src.line
             raise e from None

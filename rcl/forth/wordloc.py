@@ -35,7 +35,7 @@ class Locations:
         i = bisect.bisect_left(self.addrs, addr)
         del self.addrs[i:], self.places[i:]
         self.addrs.append(addr)
-        self.places.append((file, line))
+        self.places.append((file, line if file else None))
 
     def at(self, addr):
         """(file, line) that laid down addr, or (None, None) if unknown."""
@@ -71,14 +71,75 @@ def defined_at(m, xt):
 
 
 # ------------------------------------------------------------------ backtrace
-def backtrace(m, rs):
-    """The words an error ran through, innermost first: [(name, file, line)],
-    file:line being where that word was running (its call of the next
-    inner word), or where the innermost word was defined. From the return
-    stack `rs` (bottom first) as the error left it; cells that are not
-    return addresses into colon definitions (loop indexes, >R values) are
-    passed over."""
+def backtrace(m, rs, tb=None):
+    """The words an error ran through, innermost first: [(name, file,
+    line)]: the innermost with the place it is defined, each caller with
+    the place of its call. Each running colon word has a Python frame in
+    the error's traceback `tb` (its compiled function, or the reference
+    loop), and small words pasted into their caller are named on the
+    compiled line (compiler.INLINED); the place of each call is the return
+    address the call left on the return stack `rs` (bottom first), as the
+    error left it. Without tb, the return stack alone."""
     xts = headers(m)
+    if tb is None:
+        return from_return_stack(m, rs, xts)
+    running = activations(m, tb, xts)          # [[xt, call cell or None]], outermost first
+    returns = [r for r in rs if return_site(m, r, xts) is not None]
+    used = 0
+    for act in running[:-1]:
+        if act[1] is not None:
+            continue
+        for i in range(used, len(returns)):
+            if containing(m, (returns[i] - 2) & MASK, xts) == act[0]:
+                act[1], used = (returns[i] - 2) & MASK, i + 1
+                break
+    frames = []
+    for i, (xt, cell) in enumerate(running):
+        place = defined_at(m, xt) if i == len(running) - 1 or cell is None \
+            else m.locations.at(cell)
+        frames.append(frame(m, xt, *place))
+    return frames[::-1]
+
+
+def activations(m, tb, xts):
+    """[[xt, the cell of its call of the next one, if known]] of the colon
+    words running at the error, outermost first, from its traceback."""
+    from rcl.forth import inner
+    bodies = {f.__code__: (a, f) for a, f in m.fn.items() if hasattr(f, "__code__")}
+    running = []
+    while tb is not None:
+        code = tb.tb_frame.f_code
+        if code.co_filename == inner.COMPILED and code in bodies:
+            entry, f = bodies[code]
+            xt = containing(m, entry, xts)
+            if xt is not None:
+                running.append([xt, None])
+            for call in pasted_calls(getattr(f, "source", ""), tb.tb_lineno):
+                callee = called(m, call)
+                if callee is None:
+                    break
+                if running:
+                    running[-1][1] = call
+                running.append([callee, None])
+        elif code.co_filename == inner.__file__ and code.co_name == "run_from":
+            xt = containing(m, (tb.tb_frame.f_locals.get("ip", 0) - 2) & MASK, xts)
+            if xt is not None:
+                running.append([xt, None])
+        tb = tb.tb_next
+    return running
+
+
+def pasted_calls(source, lineno):
+    """The call cells of the words pasted into compiled code at its line
+    lineno (compiler.INLINED), outermost first."""
+    from rcl.forth.compiler import INLINED
+    lines = (source or "").split("\n")
+    text = lines[lineno - 1] if 0 < lineno <= len(lines) else ""
+    return [int(a) for a in text.split(INLINED, 1)[1].split()] if INLINED in text else []
+
+
+def from_return_stack(m, rs, xts):
+    """The backtrace from the return stack alone (no traceback)."""
     frames = []
     for r in reversed(rs):
         caller = return_site(m, r, xts)
@@ -129,10 +190,14 @@ def frame(m, xt, file, line):
 
 
 def describe(frames):
-    """Lines naming the word an error came from and its callers (gforth's
-    backtrace, innermost first); [] when the error came from no word."""
+    """Lines naming the word an error came from and its callers, innermost
+    first, as gforth's backtrace does; [] when it came from no word:
+
+          in FOO  rt.fs:1              (where FOO is defined)
+          called from BAR  rt.fs:3     (where BAR calls FOO)
+    """
     lines = []
-    for i, (name, file, line) in enumerate(frames):
+    for i, (name, file, line) in enumerate(frames or ()):
         where = "  %s:%s" % (file, line) if file else ""
-        lines.append("%s %s%s" % ("in" if i == 0 else "  called from", name, where))
+        lines.append("  %s %s%s" % ("in" if i == 0 else "called from", name, where))
     return lines
