@@ -102,6 +102,20 @@ def test_an_error_in_a_definition_of_an_included_file_does_not_skip_the_next_lin
     assert "abandoned" not in child.before
 
 
+def test_an_error_inside_words_names_the_word_and_its_callers_at_the_prompt(console):
+    child = console()
+    child.sendline(": FOO DROP ;")
+    child.expect_exact(" ok")
+    child.sendline(": BAR FOO ;")
+    child.expect_exact(" ok")
+    child.sendline("BAR")
+    child.expect_exact("Stack Underflow")
+    child.expect_exact("in FOO")
+    child.expect_exact("called from BAR")
+    child.sendline("2 .")
+    child.expect_exact("2  ok")
+
+
 def test_an_error_in_a_file_included_at_the_prompt_names_file_and_line(console, tmp_path):
     path = tmp_path / "broken.fs"
     path.write_text(": FINE 1 ;\n\nnosuchword\n")
