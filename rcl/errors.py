@@ -104,6 +104,29 @@ def file_error(exc, name):
     return ForthError(-37, exc.strerror or "File I/O exception", name)
 
 
+MAX_SOURCE = 16 << 20     # a Forth source file is read whole (RESTORE-INPUT): at most this
+
+
+def open_source(path, name=None):
+    """A Forth source file opened for INCLUDE (latin-1 text): a regular file
+    of at most MAX_SOURCE bytes, else the Forth error saying why (a FIFO or
+    /dev/zero would be waited on or read forever)."""
+    import os
+    import stat
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))   # (a FIFO: no wait)
+        f = os.fdopen(fd, encoding="latin-1")
+    except OSError as exc:
+        raise file_error(exc, name or path) from None
+    info = os.fstat(f.fileno())
+    if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_SOURCE:
+        f.close()
+        why = "not a regular file" if not stat.S_ISREG(info.st_mode) else \
+            "larger than %d MiB" % (MAX_SOURCE >> 20)
+        raise ForthError(-37, "Cannot load: %s" % why, name or path)
+    return f
+
+
 class Bye(RclError):
     """BYE was executed: the caller should leave."""
 

@@ -28,6 +28,8 @@ version and fingerprint (another build), then the payload's shape.
 """
 import hashlib
 import json
+import os
+import stat
 import struct
 import zlib
 
@@ -35,12 +37,19 @@ from rcl.errors import RclError
 from rcl.forth import memory as layout
 from rcl.forth.memory import SIZE, WATCH_HEADER
 from rcl.forth.primitives import REGISTRY
+from rcl.forth.wordloc import Locations
 from rcl.safefile import write_atomically
 
 MAGIC = b"RCLIMAGE"
 FORMAT = 1
 HEAD = struct.Struct("<8sH16s32sI")          # magic format version fingerprint length
 CHECK = 32
+# An image holds the 64 KiB memory, its header marks and a JSON of the
+# Python-side state: far less than these, which bound what is read and inflated.
+MAX_JSON = 1 << 20
+MAX_RAW = 4 + MAX_JSON + 2 * SIZE
+MAX_FILE = HEAD.size + CHECK + MAX_RAW + (MAX_RAW >> 8) + 64   # (zlib's worst growth)
+MAX_COST = 36_000_000 * 1000            # a primitive of at most a second
 KEEP_HEADER = bytes(range(256)).translate(bytes(b & WATCH_HEADER for b in range(256)))
 
 
@@ -133,25 +142,79 @@ def decode(data, name):
 
 def unpack(payload, name):
     try:
-        raw = zlib.decompress(payload)
+        inflate = zlib.decompressobj()
+        raw = inflate.decompress(payload, MAX_RAW + 1)      # never more than an image holds
+        if len(raw) > MAX_RAW or inflate.unconsumed_tail:
+            raise ValueError("it inflates past %d bytes" % MAX_RAW)
         n = struct.unpack_from("<I", raw)[0]
         meta = json.loads(raw[4:4 + n])
         mem, watch = raw[4 + n:4 + n + SIZE], raw[4 + n + SIZE:]
         if len(mem) != SIZE or len(watch) != SIZE:
             raise ValueError("memory of %d bytes" % len(mem))
-        meta["xt_of"] = {str(k): int(v) for k, v in meta["xt_of"].items()}
-        meta["forth_wid"], meta["root_wid"] = int(meta["forth_wid"]), int(meta["root_wid"])
-    except (zlib.error, struct.error, ValueError, KeyError, TypeError, AttributeError) as e:
+        meta = checked_meta(meta)
+    except (zlib.error, struct.error, ValueError, KeyError, TypeError, AttributeError,
+            RecursionError) as e:
         raise ImageError("%s is damaged (%s)" % (name, e)) from None
     return meta, mem, watch
 
 
+def checked_meta(meta):
+    """The JSON's fields, each of the type and range SAVE-SYSTEM writes, or
+    ValueError (a checksum only says the bytes are what was written)."""
+    if not isinstance(meta, dict):
+        raise ValueError("its state is not a table")
+
+    def cell(v, what):
+        if type(v) is not int or not 0 <= v <= 0xFFFF:
+            raise ValueError("%s is not a cell: %r" % (what, v))
+        return v
+
+    def text(v, what):
+        if not isinstance(v, str):
+            raise ValueError("%s is not text: %r" % (what, v))
+        return v
+    xt_of = meta["xt_of"]
+    if not isinstance(xt_of, dict):
+        raise ValueError("xt_of is not a table")
+    costs, included = meta.get("costs", {}), meta.get("included", [])
+    if not isinstance(costs, dict) or not isinstance(included, list):
+        raise ValueError("costs or included is not a table or a list")
+    block_file = meta.get("block_file")
+    return dict(meta, **{
+        "xt_of": {text(k, "a word's name"): cell(v, k) for k, v in xt_of.items()},
+        "forth_wid": cell(meta["forth_wid"], "forth_wid"),
+        "root_wid": cell(meta["root_wid"], "root_wid"),
+        "included": [text(f, "an included file") for f in included],
+        "block_file": None if block_file is None else text(block_file, "block_file"),
+        "costs": {text(k, "a primitive's name"): cost(v, k) for k, v in costs.items()},
+    })
+
+
+def cost(v, name):
+    if type(v) is not int or not 0 <= v <= MAX_COST:
+        raise ValueError("the cost of %s is not a number of clock units: %r" % (name, v))
+    return v
+
+
 def read(path):
+    """The file's bytes: a regular file of at most MAX_FILE bytes (a FIFO,
+    a device or a huge file is refused before anything is read)."""
     try:
-        with open(path, "rb") as f:
-            return f.read()
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as e:
         raise ImageError("cannot read %s: %s" % (path, e.strerror)) from None
+    with os.fdopen(fd, "rb") as f:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise ImageError("%s is not a regular file (an image is a file "
+                             "SAVE-SYSTEM wrote)" % path)
+        if info.st_size > MAX_FILE:
+            raise ImageError("%s is not an rcl system image (%d bytes; an image "
+                             "holds at most %d)" % (path, info.st_size, MAX_FILE))
+        try:
+            return f.read(MAX_FILE + 1)
+        except OSError as e:
+            raise ImageError("cannot read %s: %s" % (path, e.strerror)) from None
 
 
 def load(m, path):
@@ -166,6 +229,7 @@ def load(m, path):
     restore_costs(m, meta.get("costs", {}))
     m.dictionary.cache.clear()
     m.dictionary.generation += 1
+    m.locations = Locations()          # the image's words: no source places known
     m.invalidate()
     reopen_blocks(m, meta.get("block_file"))
     del m.s[:], m.rs[:]
@@ -180,9 +244,10 @@ def restore_costs(m, costs):
 
 
 def reopen_blocks(m, path):
-    """The block file open when the image was saved, if it is still there."""
+    """The block file open when the image was saved, if it is still there
+    (BlockFile.open refuses what is not a regular file)."""
     if path and hasattr(m.blocks, "open"):
         try:
             m.blocks.open(path)
-        except (OSError, RclError):
+        except (OSError, RclError, ValueError):
             pass

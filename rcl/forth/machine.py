@@ -13,7 +13,7 @@ import sys
 import threading
 
 from rcl.board import NullBoard
-from rcl.errors import Bye, ForthError, file_error
+from rcl.errors import Bye, ForthError, open_source
 from rcl.forth import inner
 from rcl.forth.compiler import compile_code
 from rcl.forth.decode import TooLarge
@@ -216,10 +216,7 @@ class Forth(Inner, Outer):
 
     def include(self, path):
         """Load a text file, as INCLUDE does."""
-        try:
-            f = open(path, encoding="latin-1")
-        except OSError as exc:
-            raise file_error(exc, path) from None
+        f = open_source(path)
         self.included.add(os.path.abspath(path))     # as INCLUDE does: REQUIRE sees it
         with f, self.breakable():
             lines = (line.rstrip("\r\n") for line in f)
