@@ -443,4 +443,5 @@ def source(m, name):
     else:
         raise ValueError("%s is a primitive, not threaded code" % name)
     f = m.fn.get(addr) or m.compile(addr)
-    return getattr(f, "source", None) or compile_code(m, addr).source
+    text = getattr(f, "source", None) or compile_code(m, addr).source
+    return "\n".join(line.split("  " + INLINED)[0] for line in text.split("\n"))
