@@ -7,7 +7,6 @@ import os
 __version__ = "0.1.0"
 
 from rcl.errors import Bye, ForthError, RclError  # noqa: E402
-from rcl.forth.machine import Forth  # noqa: E402
 
 __all__ = ["Forth", "ForthError", "RclError", "Bye", "open"]
 
@@ -26,6 +25,15 @@ def _screens_folder():
 SCREENS = _screens_folder()
 
 
+def __getattr__(name):
+    """rcl.Forth, imported when first asked for: `import rcl` stays light,
+    so the command line can take Ctrl-C while the machine loads (cli.py)."""
+    if name == "Forth":
+        from rcl.forth.machine import Forth
+        return Forth
+    raise AttributeError("module 'rcl' has no attribute %r" % name)
+
+
 def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (DESIGN.md's name)
          board=None, port=None, usb=None):
     """A running system: a machine wired to a simulated board with RCL
@@ -42,6 +50,7 @@ def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (D
     cannot connect); `.sim` only when the board is rclsim://'s simulation."""
     if port is not None or usb is not None:
         return open_link(port, usb, write, screens, image)
+    from rcl.forth.machine import Forth
     from rcl.sim.board import SimBoard
     from rcl.sim.observe import Sim
     from rcl.sim.pace import Pacer
@@ -89,6 +98,7 @@ def start_image(m, path):
 
 def open_link(port, usb, write, screens, image):
     """RCL on a board over a link (rcl --port / --usb)."""
+    from rcl.forth.machine import Forth
     from rcl.hw.connect import open_link as connect
     board = connect(port=port, usb=usb)
     m = Forth(write=write, board=board)

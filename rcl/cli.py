@@ -13,16 +13,35 @@ Exit status: 0 at the end of input or on BYE, 1 if an error happened
 outside the interactive prompt (a FILE, a -e, a piped line), 2 for a bad
 command line. Nothing here ever lets a Python traceback reach the user.
 """
-import argparse
-import contextlib
-import io
-import os
 import signal
 import sys
+import threading
 
-import rcl
-from rcl import repl
-from rcl.terminal import is_dumb
+
+def leave_quietly(signum, frame):
+    raise SystemExit(128 + signum)
+
+
+# Ctrl-C while rcl loads (the machine, the words, the board: some 0.4 s)
+# leaves with status 130 and no traceback; nothing runs yet to stop.
+_loading = threading.current_thread() is threading.main_thread() \
+    and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+if _loading:
+    signal.signal(signal.SIGINT, leave_quietly)
+try:
+    import argparse
+    import contextlib
+    import io
+    import os
+
+    import rcl
+    import rcl.forth.machine  # noqa: F401  (the heavy part, while Ctrl-C is quiet)
+    from rcl import repl
+    from rcl.forth import wordloc
+    from rcl.terminal import is_dumb
+finally:
+    if _loading:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 BANNER = ("rcl %s \N{EM DASH} an F83-style Forth for the R-E Robot (%s). "
           "BYE to leave, #help for the prompt's commands.")
@@ -135,6 +154,9 @@ def make_machine(args, write):
     except ImageError as e:
         sys.stderr.write("rcl: --image: %s\n" % e)
         raise SystemExit(2) from None
+    except rcl.ForthError as e:         # the user's screens (--screens) or image failed
+        sys.stderr.write(where(e, "--image" if args.image else "--screens") + "\n")
+        raise SystemExit(1) from None
     if args.start is not None:
         set_time_of_day(m, args.start)
     return m
@@ -276,12 +298,15 @@ def parse_args(argv):
 
 # ------------------------------------------------------------------- loads
 def where(e, name):
-    """`file:line: text` for an error of a FILE or -e."""
+    """`file:line: text` for an error of a FILE or -e, then the words it
+    came from, if any (wordloc.py)."""
     if e.file:
-        return str(e)
-    if e.code in (-37, -38):
-        return "%s: %s" % (name, e.message)
-    return "%s: %s" % (name, e.display())
+        text = str(e)
+    elif e.code in (-37, -38):
+        text = "%s: %s" % (name, e.message)
+    else:
+        text = "%s: %s" % (name, e.display())
+    return "\n".join([text] + wordloc.describe(e.words()))
 
 
 def report(out, text):
@@ -298,6 +323,10 @@ def run_startup(m, args, out):
     steps = [(m.include, find_file(path, m), path) for path in args.files]
     steps += [(m.evaluate, words, "-e") for words in args.words]
     for action, arg, name in steps:
+        if action == m.include and is_image(arg):
+            report(out, "%s: a saved system, not Forth source: start from it with "
+                        "rcl --image %s" % (name, name))
+            return False
         try:
             action(arg)
         except rcl.ForthError as e:
@@ -307,6 +336,18 @@ def run_startup(m, args, out):
             report(out, "%s: Interrupted" % name)
             return False
     return True
+
+
+def is_image(path):
+    """Does the file begin as SAVE-SYSTEM's images do (image.MAGIC; image.py
+    is not loaded for this)? A FIFO or device is not opened here."""
+    if not os.path.isfile(path):
+        return False
+    try:
+        with open(path, "rb") as f:
+            return f.read(8) == b"RCLIMAGE"
+    except OSError:
+        return False                  # include says why
 
 
 # -------------------------------------------------------------------- pipe
@@ -328,7 +369,7 @@ def run_pipe(m, out, feed):
             m.evaluate(line)
         except rcl.ForthError as e:
             out.write(repl.error_text(e) + "\n")   # from a file: file:line first
-            name = guard.failed(line)
+            name = guard.failed(line, e)
             if name:
                 out.write("%s is abandoned: the lines up to its ; are skipped\n" % name)
             status = 1

@@ -57,6 +57,7 @@ class ForthError(RclError):
         self.output = ""
         self.file = None
         self.line = None
+        self.backtrace = None     # [(word, file, line)] innermost first (forth/wordloc.py)
 
     def display(self):
         """The text F83 prints between the blanks, with the word if any."""
@@ -71,6 +72,12 @@ class ForthError(RclError):
         if self.word is not None:
             return "%s  %s " % (self.word, self.message)
         return " %s " % self.message
+
+    def words(self):
+        """The words the error came from, innermost first ([(word, file,
+        line)]), if worth showing: not for ABORT and ABORT" (-1, -2), whose
+        message is the program's own word to the user, as F83 shows it."""
+        return [] if self.code in (-1, -2) else (self.backtrace or [])
 
     def __str__(self):
         where = "%s:%s: " % (self.file, self.line) if self.file else ""
@@ -96,6 +103,29 @@ def file_error(exc, name):
     if isinstance(exc, FileNotFoundError):
         return ForthError(-38, "File not found", name)
     return ForthError(-37, exc.strerror or "File I/O exception", name)
+
+
+MAX_SOURCE = 16 << 20     # a Forth source file is read whole (RESTORE-INPUT): at most this
+
+
+def open_source(path, name=None):
+    """A Forth source file opened for INCLUDE (latin-1 text): a regular file
+    of at most MAX_SOURCE bytes, else the Forth error saying why (a FIFO or
+    /dev/zero would be waited on or read forever)."""
+    import os
+    import stat
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))   # (a FIFO: no wait)
+        f = os.fdopen(fd, encoding="latin-1")
+    except OSError as exc:
+        raise file_error(exc, name or path) from None
+    info = os.fstat(f.fileno())
+    if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_SOURCE:
+        f.close()
+        why = "not a regular file" if not stat.S_ISREG(info.st_mode) else \
+            "larger than %d MiB" % (MAX_SOURCE >> 20)
+        raise ForthError(-37, "Cannot load: %s" % why, name or path)
+    return f
 
 
 class Bye(RclError):

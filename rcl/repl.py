@@ -38,6 +38,7 @@ import threading
 
 import rcl
 from rcl import status
+from rcl.forth import wordloc
 from rcl.forth.dictionary import HIDDEN
 from rcl.forth.primitives import CLOCK_HZ
 from rcl.terminal import PlainTerminal, hold_keys, make_terminal, shows_status
@@ -151,7 +152,7 @@ class Repl:
                 self.out.write(" ok")
         except rcl.ForthError as e:
             self.out.write(error_text(e))
-            self.abandoned(line)
+            self.abandoned(line, e)
         except rcl.Bye:
             return False
         except KeyboardInterrupt:
@@ -187,9 +188,9 @@ class Repl:
                 self.m.sim.run(behind)
 
     # ------------------------------------------------- open definitions
-    def abandoned(self, line):
+    def abandoned(self, line, error):
         """After an error: was a definition open? Then skip its other lines."""
-        name = self.guard.failed(line)
+        name = self.guard.failed(line, error)
         if name:
             self.out.write("\n%s is abandoned: the lines up to its ; are skipped, "
                            "not run (Ctrl-C stops skipping)" % name)
@@ -284,10 +285,10 @@ class Repl:
 
 
 def error_text(e):
-    """F83's text for an error; from a file, `file:line:` first (gforth)."""
-    if e.file:
-        return " %s:%s: %s " % (e.file, e.line, e.display())
-    return e.screen()
+    """F83's text for an error; from a file, `file:line:` first (gforth);
+    then, if it came from a word, the word and its callers (wordloc.py)."""
+    text = " %s:%s: %s " % (e.file, e.line, e.display()) if e.file else e.screen()
+    return "\n".join([text] + wordloc.describe(e.words()))
 
 
 def ends_definition(line):
@@ -302,7 +303,7 @@ class OpenDefinition:
     error the lines up to one holding `;` are skipped.
 
         before()        before each line runs
-        failed(line)    after it failed: the abandoned definition's name, or ''
+        failed(line, e) after it failed with e: the abandoned definition's name, or ''
         skipping        that name while lines are being skipped
         skip(line)      what to show for a skipped line
     """
@@ -322,11 +323,14 @@ class OpenDefinition:
     def before(self):
         self.last, self.was_open = self.m.dictionary.last, self.m.compiling
 
-    def failed(self, line):
+    def failed(self, line, error):
         d = self.m.dictionary
         opened = d.last != self.last and d.last and d.flags(d.last) & HIDDEN
         if not (self.was_open or opened) or ends_definition(line):
             return ""
+        if error.file and not self.was_open:
+            return ""        # opened in a file the error ended: its ; went with the file
+
         self.skipping = self.name() or "the definition"
         return self.skipping
 

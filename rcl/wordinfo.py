@@ -38,6 +38,8 @@ class Entry:
     where: str           # "core word set", "Layer 8, command language"
     text: str            # one line: what it does
     source: str = ""     # the defining line, when there is no description
+    file: str = ""       # where it is defined (a primitive: "")
+    line: int = 0
 
     def help(self):
         """What HELP prints: name and effect, where from, what it does."""
@@ -84,22 +86,83 @@ def layer_title(first):
 
 
 def file_entries(path, where=None):
-    """The words a Forth source file defines, in order."""
+    """The words a Forth source file defines, in order: a defining word met
+    while interpreting (not one compiled inside a definition, nor a name
+    after `'`, `[CHAR]` ... or in a comment or string). A word defined into
+    another vocabulary (ROOT's WORDS, which runs FORTH's) describes
+    nothing of its own."""
     with open(path, encoding="latin-1") as f:
         lines = [line.rstrip("\n") for line in f]
     where = where or layer_title(lines[0] if lines else "")
-    found, definers = [], dict(DEFINERS)
+    definers = dict(DEFINERS)
     definers.update(own_definers(lines))
-    for line in lines:
-        code = line.split("\\ ", 1)[0] if not line.startswith("\\") else ""
-        defs = list(definition_pattern(definers).finditer(code))
-        for i, d in enumerate(defs):
-            definer, name = d.group(1).upper(), d.group(2)
-            rest = line[d.end():]
-            effect, text = describe(rest, len(defs) == 1, definer)
+    found, scan = [], Scan()
+    for number, line in enumerate(lines, 1):
+        defs = [(d, name, end) for d, name, end in scan.line(line) if d.upper() in definers]
+        for definer, name, end in defs:
+            if scan.current != "FORTH":
+                continue
+            definer = definer.upper()
+            effect, text = describe(line[end:], len(defs) == 1, definer)
             effect = effect or definers[definer]
-            found.append(Entry(name, effect, where, text, line.strip()))
+            found.append(Entry(name, effect, where, text, line.strip(), path, number))
     return found
+
+
+class Scan:
+    """Forth source read as the outer interpreter reads it, a line at a
+    time: which names follow a word while interpreting, and the vocabulary
+    definitions go to."""
+
+    SKIP_NEXT = {"'", "[']", "CHAR", "[CHAR]", "POSTPONE", "[COMPILE]", "COMPILE"}
+    TEXT = {"(": ")", ".(": ")", '."': '"', 'S"': '"', 'C"': '"', 'ABORT"': '"', '."': '"'}
+
+    def __init__(self):
+        self.compiling = False
+        self.current = "FORTH"
+        self.last = ""
+
+    def line(self, line):
+        """[(word, the name after it, where the name ends)] for each word
+        interpreted (not compiled) on this line and followed by a name."""
+        out, i, skip = [], 0, False
+        tokens = list(re.finditer(r"\S+", line))
+        k = 0
+        while k < len(tokens):
+            t = tokens[k]
+            word = t.group().upper()
+            k += 1
+            if skip:
+                skip = False
+                continue
+            if word == "\\":
+                break
+            close = self.TEXT.get(word)
+            if close is not None:
+                end = line.find(close, t.end() + 1)
+                end = len(line) if end < 0 else end + 1
+                while k < len(tokens) and tokens[k].start() < end:
+                    k += 1
+                continue
+            if word in self.SKIP_NEXT:
+                skip = True
+                continue
+            if self.compiling:
+                if word in (";", "[", ";CODE"):
+                    self.compiling = False
+                continue
+            if word == "]":
+                self.compiling = True
+            elif word == "DEFINITIONS":
+                self.current = "FORTH" if self.last in ("PREVIOUS", "ONLY", "FORTH") \
+                    else self.last
+            elif k < len(tokens):
+                out.append((t.group(), tokens[k].group(), tokens[k].end()))
+                if word == ":":
+                    self.compiling = True
+                    k += 1
+            self.last = word
+        return out
 
 
 def own_definers(lines):

@@ -11,8 +11,8 @@ CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time (after
    ?TICKING's check, at no cost); while IDLE? it counts idle ticks out.
 END-CODE
 : MS  ( milliseconds -- )   (MS) ;   \ wait, Listing 3's calibrated loop
-: SECONDS  ( seconds -- )   0 ?DO 1000 MS LOOP ;   \ wait n times 1000 MS
-: MINUTES  ( minutes -- )   0 ?DO 60 SECONDS LOOP ;   \ wait n times 60 SECONDS
+: SECONDS  ( seconds -- )   ?DURATION 0 ?DO 1000 MS LOOP ;   \ wait n times 1000 MS
+: MINUTES  ( minutes -- )   ?DURATION 0 ?DO 60 SECONDS LOOP ;   \ wait n times 60 SECONDS
 : BEEP  ( -- )   BEEP-ON 100 MS BEEP-OFF 100 MS ;   \ two BEEPs are two sounds
 
 \ The time of day is counted in 10 ms ticks since midnight once INSTALL

@@ -303,3 +303,41 @@ def test_lines_after_an_error_in_an_open_definition_are_skipped_up_to_its_semico
 
 def test_an_error_in_a_one_line_definition_skips_nothing():
     assert rcl(stdin=": OK 1 foo 2 ;\n3 .\n").stdout == "FOO  ? \n3 \n"
+
+
+def test_an_error_in_a_definition_of_an_included_file_skips_nothing_after_the_file(source):
+    trip = source("\n\n: TRIP 1 TRUN-LEFT 2 ;\n", "trip.fs")
+    done = rcl(stdin="INCLUDE %s\n2 3 + .\n" % trip)
+    assert done.stdout == " %s:3: TRUN-LEFT  ? \n5 \n" % trip
+    assert done.returncode == 1
+
+
+def test_an_error_in_the_users_screens_is_a_file_error_exit_one(tmp_path):
+    import shutil
+    screens = tmp_path / "myscreens"
+    shutil.copytree(os.path.join(ROOT, "screens"), str(screens))
+    with open(str(screens / "95-status.fs"), "a") as f:
+        f.write("NOSUCHWORD\n")
+    lines = len(open(str(screens / "95-status.fs")).read().split("\n")) - 1
+    done = rcl("--screens", str(screens), stdin="1 .\n")
+    assert done.stderr == "%s:%d: NOSUCHWORD  ?\n" % (screens / "95-status.fs", lines)
+    assert done.returncode == 1 and "internal" not in done.stderr
+
+
+def test_an_image_given_as_a_file_says_to_use_image(tmp_path):
+    img = str(tmp_path / "robot.img")
+    assert rcl(stdin='SAVE-SYSTEM %s\n' % img).returncode == 0
+    done = rcl(img, stdin="1 .\n")
+    assert done.stderr == ("%s: a saved system, not Forth source: start from it with "
+                           "rcl --image %s\n" % (img, img))
+    assert done.returncode == 1
+    assert rcl("--image", img, stdin="1 .\n").stdout == "1 \n"
+
+
+def test_the_blocks_module_runs_without_a_warning(tmp_path):
+    text = tmp_path / "a.fs"
+    text.write_text(": X 1 ;\n")
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    done = subprocess.run([sys.executable, "-W", "error", "-m", "rcl.blocks", str(text),
+                           str(tmp_path / "a.blk")], capture_output=True, text=True, env=env)
+    assert (done.returncode, done.stderr) == (0, "")

@@ -91,6 +91,31 @@ def test_lines_after_an_error_in_an_open_definition_are_skipped_up_to_its_semico
     assert "7  ok" not in child.before and "8 " not in child.before
 
 
+def test_an_error_in_a_definition_of_an_included_file_does_not_skip_the_next_line(console, tmp_path):
+    path = tmp_path / "trip.fs"
+    path.write_text(": TRIP 1\n  TRUN-LEFT 2 ;\n")
+    child = console()
+    child.sendline("INCLUDE %s" % path)
+    child.expect_exact("%s:2: TRUN-LEFT  ?" % path)
+    child.sendline("2 3 + .")
+    child.expect_exact("5  ok")
+    assert "abandoned" not in child.before
+
+
+def test_an_error_inside_words_names_the_word_and_its_callers_at_the_prompt(console):
+    child = console()
+    child.sendline(": FOO DROP ;")
+    child.expect_exact(" ok")
+    child.sendline(": BAR FOO ;")
+    child.expect_exact(" ok")
+    child.sendline("BAR")
+    child.expect_exact("Stack Underflow")
+    child.expect_exact("in FOO")
+    child.expect_exact("called from BAR")
+    child.sendline("2 .")
+    child.expect_exact("2  ok")
+
+
 def test_an_error_in_a_file_included_at_the_prompt_names_file_and_line(console, tmp_path):
     path = tmp_path / "broken.fs"
     path.write_text(": FINE 1 ;\n\nnosuchword\n")

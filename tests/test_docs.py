@@ -147,3 +147,52 @@ def test_the_saving_examples_pose_is_what_rcl_prints(tmp_path):
                                          env=env, capture_output=True, text=True, **k)
     run(input=": HOME  RERB 2 FEET BACKWARD ;  SAVE-SYSTEM robot.img\n")
     assert run("--image", "robot.img", "-e", "HOME .POSE BYE", input="").stdout.strip() == shown
+
+
+def words_md_rows():
+    """(name, stack effect) of every row of docs/words.md."""
+    text = open(os.path.join(ROOT, "docs", "words.md"), encoding="utf-8").read()
+    return [(n.replace("\\|", "|"), e.replace("\\|", "|"))
+            for n, e in re.findall(r"^\| `(.+?)` \| `(.*?)` \|", text, re.M)]
+
+
+def test_every_entry_of_words_md_is_the_words_own(machine):
+    """The dictionary says what each word is: a primitive's row carries its
+    declaration; a word defined in Forth, its own defining line (the file
+    and line the machine recorded when it defined the word), with the stack
+    comment right after its name there."""
+    from rcl.forth.memory import PRIM_LIMIT
+    from rcl.forth.primitives import REGISTRY
+    from rcl.forth.wordloc import defined_at
+    wrong = []
+    for name, effect in words_md_rows():
+        hit = machine.dictionary.find(name)
+        if hit is None:
+            continue                          # (a word of another vocabulary)
+        xt, entry = hit[0], wordinfo.lookup(name)
+        cf = machine.memory.fetch(xt)
+        p = REGISTRY[cf] if cf < PRIM_LIMIT else None
+        if p is not None and p.kind != "runtime":
+            if (p.name, wordinfo.split_effect(p.effect)[0]) != (name, effect):
+                wrong.append((name, effect, p.name, p.effect))
+            continue
+        file, line = defined_at(machine, xt)
+        if file is None:                      # laid down at boot: FORTH, BASE ...
+            if entry.where not in ("vocabulary", "system variable"):
+                wrong.append((name, effect, "no place"))
+            continue
+        said = (os.path.realpath(entry.file), entry.line, entry.effect)
+        if said != (os.path.realpath(file), line, effect):
+            wrong.append((name, effect, entry.file, entry.line, file, line))
+            continue
+        text = open(file, encoding="latin-1").read().split("\n")[line - 1]
+        after = re.search(r"(?i)(?:^|\s)%s(\s+\(\s[^)]*\))?" % re.escape(name), text)
+        if after is None or (after.group(1) and after.group(1).strip() != effect):
+            wrong.append((name, effect, text))
+    assert wrong == []
+
+
+@pytest.mark.parametrize("name", ["OVER", "HERE", "EMIT", ";", "WORDS"])
+def test_help_of_a_word_used_inside_other_definitions_is_its_own(machine, name):
+    out = machine.evaluate("HELP %s" % name)
+    assert out.startswith("\n%s  ( " % name) and "word set" in out and "defined as" not in out

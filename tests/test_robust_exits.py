@@ -208,3 +208,30 @@ def test_an_unreadable_file_says_permission_denied(tmp_path):
     with pytest.raises(rcl.ForthError) as e:
         m.evaluate("INCLUDE " + str(source))
     assert e.value.message == "Permission denied"
+
+
+CTRL_C_DURING_IMPORT = """
+import importlib.abc, os, runpy, signal, sys
+AT = sys.argv[1]
+class CtrlC(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name == AT:
+            os.kill(os.getpid(), signal.SIGINT)   # taken at the next bytecode
+        return None
+sys.meta_path.insert(0, CtrlC())
+sys.argv = ["rcl"]
+runpy.run_module("rcl", run_name="__main__", alter_sys=True)
+"""
+
+
+@pytest.mark.parametrize("module", ["rcl.forth.machine", "rcl.words.core",
+                                    "rcl.sim.board", "rcl.repl", "rcl.startcache"])
+def test_ctrl_c_while_rcl_starts_leaves_quietly(module, tmp_path):
+    """Ctrl-C as rcl loads each part (the 0.45 s before the prompt): exit
+    status 130, no Python traceback."""
+    env = dict(os.environ, PYTHONPATH=ROOT, RCL_CACHE_DIR=str(tmp_path))
+    done = subprocess.run([sys.executable, "-c", CTRL_C_DURING_IMPORT, module],
+                          stdin=subprocess.PIPE, capture_output=True, text=True,
+                          env=env, timeout=60)
+    assert "Traceback" not in done.stderr
+    assert done.returncode == 130

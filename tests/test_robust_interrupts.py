@@ -192,3 +192,31 @@ def test_the_handler_gets_a_virtual_second_before_it_is_stopped():
     with pytest.raises(rcl.ForthError):
         m.evaluate("10 MS")
     assert 1.0 <= (m.clock - start) / CLOCK_HZ < 1.1
+
+
+@pytest.mark.parametrize("wait", ["37 137 PC! 7 PM WAIT-UNTIL",
+                                  "1 137 PC! TICKS@ 360000. D+ WAIT-UNTIL",
+                                  "37 137 PC! 600 MINUTES"])
+def test_ctrl_c_stops_a_long_wait_with_a_relay_on_at_once(wait):
+    """Ctrl-C from another thread (as the SIGINT handler sets the machine's
+    flag) while a wait skips hours with a relay on: it is taken within the
+    virtual second the skip was in (the physics kept up a second at a time;
+    the whole skip's physics at once took 531 s of wall time). The wall
+    bound only catches that hang, generously."""
+    import threading
+    import time
+    m = rcl.open()
+    asked = []
+
+    def ctrl_c():
+        time.sleep(0.5)
+        asked.append((time.monotonic(), m.seconds))
+        m.request_break()
+    threading.Thread(target=ctrl_c, daemon=True).start()
+    with pytest.raises(rcl.ForthError, match="Interrupted"):
+        m.evaluate(wait)
+    stopped = time.monotonic()
+    wall, virtual = asked[0]
+    assert stopped - wall < 60
+    assert m.seconds - virtual < 3600                  # not left to run to the end
+    assert motors_off(m)

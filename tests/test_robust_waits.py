@@ -104,3 +104,17 @@ def test_ms_waits_the_same_with_its_shortcut_under_the_stock_control_word():
         m.evaluate("1000 MS")
         return m.clock, m.sim.board.ticks
     assert run(True) == run(False)
+
+
+@pytest.mark.parametrize("wait", ["-1 MINUTES", "-5 SECONDS", "-32768 SECONDS"])
+def test_a_negative_wait_is_out_of_range_at_once(robot, wait):
+    message, seconds, motor_on = refusal(robot, "37 137 PC!  " + wait)
+    assert (message, motor_on) == ("Out of range", False)
+    assert seconds < 0.01                                   # (the abort's hooks run)
+
+
+def test_the_largest_count_still_waits(robot):
+    robot.evaluate("0 SECONDS  0 MINUTES")
+    start = robot.clock
+    robot.evaluate("32767 SECONDS")
+    assert (robot.clock - start) / CLOCK_HZ >= 32767

@@ -120,7 +120,8 @@ class BlockGen:
             self.real_stack = True
         if rewrite and last is not None and last[3] == ind and self.vs:
             lines, i, t, at = last
-            lines[i] = "    " * at + "%s = s[-1]" % t
+            note = lines[i].partition("  # ")[1:]       # (an inlined call's note stays)
+            lines[i] = "    " * at + "%s = s[-1]" % t + "".join(note)
             if self.vs[0] != t:
                 self.emit("s[-1] = %s" % self.vs[0], ind, "s")
             del self.vs[0]
@@ -188,8 +189,11 @@ class BlockGen:
             self.open_calls += 1                   # block's check saw the depth it needs,
             if self.rs_unknown:                    # unless Python code ran before it
                 self.call_check(ind)
+            self.inlined.append(ins.addr)
         elif op == "exit":
             self.open_calls -= 1
+            if self.inlined:
+                self.inlined.pop()
         elif op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants

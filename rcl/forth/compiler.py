@@ -110,6 +110,7 @@ from rcl.forth.inner import COMPILED, N, RSTACK_CELLS                      # (de
 
 DOCOL_N = N["(DOCOL)"]
 
+INLINED = "# inlined: "       # a compiled line's note of the inlined calls it runs in
 GROUP = 32                   # blocks per group of guards in a long definition
 
 
@@ -147,6 +148,7 @@ class Gen(BlockGen, LoopGen):
         self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
         self.docol_checked = False   # the block's check covered its call's (DOCOL) (block)
         self.inner = set()           # blocks inside a loop's while: no way in for LEAVE
+        self.inlined = []            # call cells of the inlined calls being pasted
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -162,6 +164,8 @@ class Gen(BlockGen, LoopGen):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
         self.saw_line(ind, uses)
+        if self.inlined:             # for a backtrace (wordloc.py): the calls pasted here
+            line += "  %s%s" % (INLINED, " ".join(map(str, self.inlined)))
         self.lines.append("    " * ind + line)
         self.uses.update(uses)
 
@@ -439,4 +443,5 @@ def source(m, name):
     else:
         raise ValueError("%s is a primitive, not threaded code" % name)
     f = m.fn.get(addr) or m.compile(addr)
-    return getattr(f, "source", None) or compile_code(m, addr).source
+    text = getattr(f, "source", None) or compile_code(m, addr).source
+    return "\n".join(line.split("  " + INLINED)[0] for line in text.split("\n"))

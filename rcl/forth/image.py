@@ -31,6 +31,8 @@ version and fingerprint (another build), then the payload's shape.
 """
 import hashlib
 import json
+import os
+import stat
 import struct
 import zlib
 
@@ -44,6 +46,12 @@ MAGIC = b"RCLIMAGE"
 FORMAT = 1
 HEAD = struct.Struct("<8sH16s32sI")          # magic format version fingerprint length
 CHECK = 32
+# An image holds the 64 KiB memory, its header marks and a JSON of the
+# Python-side state: far less than these, which bound what is read and inflated.
+MAX_JSON = 1 << 20
+MAX_RAW = 4 + MAX_JSON + 2 * SIZE
+MAX_FILE = HEAD.size + CHECK + MAX_RAW + (MAX_RAW >> 8) + 64   # (zlib's worst growth)
+MAX_COST = 36_000_000 * 1000            # a primitive of at most a second
 
 
 class ImageError(RclError):
@@ -128,33 +136,114 @@ def decode(data, name):
 
 def unpack(payload, name):
     try:
-        raw = zlib.decompress(payload)
+        inflate = zlib.decompressobj()
+        raw = inflate.decompress(payload, MAX_RAW + 1)      # never more than an image holds
+        if len(raw) > MAX_RAW or inflate.unconsumed_tail:
+            raise ValueError("it inflates past %d bytes" % MAX_RAW)
         n = struct.unpack_from("<I", raw)[0]
         meta = json.loads(raw[4:4 + n])
         mem, watch = raw[4 + n:4 + n + SIZE], raw[4 + n + SIZE:]
         if len(mem) != SIZE or len(watch) != SIZE:
             raise ValueError("memory of %d bytes" % len(mem))
-        meta["xt_of"] = {str(k): int(v) for k, v in meta["xt_of"].items()}
-        meta["forth_wid"], meta["root_wid"] = int(meta["forth_wid"]), int(meta["root_wid"])
-    except (zlib.error, struct.error, ValueError, KeyError, TypeError, AttributeError) as e:
+        meta = checked_meta(meta)
+    except (zlib.error, struct.error, ValueError, KeyError, TypeError, AttributeError,
+            RecursionError) as e:
         raise ImageError("%s is damaged (%s)" % (name, e)) from None
     return meta, mem, watch
 
 
+def checked_meta(meta):
+    """The JSON's fields, each of the type and range SAVE-SYSTEM writes, or
+    ValueError (a checksum only says the bytes are what was written).
+    Images saved before the heap was kept name two fields otherwise."""
+    if not isinstance(meta, dict):
+        raise ValueError("its state is not a table")
+    for old, new in (("block_file", "blocks"), ("costs", "cost")):
+        if old in meta:
+            meta[new] = meta.pop(old)
+
+    def cell(v, what):
+        if type(v) is not int or not 0 <= v <= 0xFFFF:
+            raise ValueError("%s is not a cell: %r" % (what, v))
+        return v
+
+    def text(v, what):
+        if not isinstance(v, str):
+            raise ValueError("%s is not text: %r" % (what, v))
+        return v
+
+    def table(v, what):
+        if not isinstance(v, dict):
+            raise ValueError("%s is not a table" % what)
+        return v
+
+    def rows(v, what, width):
+        if not isinstance(v, list) or not all(isinstance(r, list) and len(r) == width for r in v):
+            raise ValueError("%s is not a list of %d-field rows" % (what, width))
+        return v
+
+    def line(v, what):
+        if v is not None and (type(v) is not int or v < 0):
+            raise ValueError("%s is not a line number: %r" % (what, v))
+        return v
+    included = meta.get("included", [])
+    if not isinstance(included, list):
+        raise ValueError("included is not a list")
+    blocks = meta.get("blocks")
+    heap = table(meta.get("heap", {"used": [], "free": []}), "heap")
+    checked = dict(meta, **{
+        "xt_of": {text(k, "a word's name"): cell(v, k)
+                  for k, v in table(meta["xt_of"], "xt_of").items()},
+        "forth_wid": cell(meta["forth_wid"], "forth_wid"),
+        "root_wid": cell(meta["root_wid"], "root_wid"),
+        "included": [text(f, "an included file") for f in included],
+        "blocks": None if blocks is None else text(blocks, "blocks"),
+        "cost": {text(k, "a primitive's name"): cost(v, k)
+                 for k, v in table(meta.get("cost", {}), "cost").items()},
+        "replacements": {text(k, "a replaced name"): text(v, "a replacement")
+                         for k, v in table(meta.get("replacements", {}), "replacements").items()},
+        "heap": {part: [[cell(a, "a heap block"), cell(n, "a heap block's size")]
+                        for a, n in rows(heap.get(part, []), "the heap's " + part, 2)]
+                 for part in ("used", "free")},
+        "locations": [[cell(a, "a source place"), None if f is None else text(f, "a file"),
+                       line(n, "a source line")]
+                      for a, f, n in rows(meta.get("locations", []), "locations", 3)],
+    })
+    if "heap_floor" in meta:
+        checked["heap_floor"] = cell(meta["heap_floor"], "heap_floor")
+    return checked
+
+
+def cost(v, name):
+    if type(v) is not int or not 0 <= v <= MAX_COST:
+        raise ValueError("the cost of %s is not a number of clock units: %r" % (name, v))
+    return v
+
+
 def read(path):
+    """The file's bytes: a regular file of at most MAX_FILE bytes (a FIFO,
+    a device or a huge file is refused before anything is read)."""
     try:
-        with open(path, "rb") as f:
-            return f.read()
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as e:
         raise ImageError("cannot read %s: %s" % (path, e.strerror)) from None
+    with os.fdopen(fd, "rb") as f:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise ImageError("%s is not a regular file (an image is a file "
+                             "SAVE-SYSTEM wrote)" % path)
+        if info.st_size > MAX_FILE:
+            raise ImageError("%s is not an rcl system image (%d bytes; an image "
+                             "holds at most %d)" % (path, info.st_size, MAX_FILE))
+        try:
+            return f.read(MAX_FILE + 1)
+        except OSError as e:
+            raise ImageError("cannot read %s: %s" % (path, e.strerror)) from None
 
 
 def load(m, path):
     """Make m the system saved in path. Everything is checked before the
     machine is touched: a refused image leaves m as it was."""
     meta, mem, watch = decode(read(path), path)
-    for old, new in (("block_file", "blocks"), ("costs", "cost")):   # before the heap was kept
-        if old in meta:
-            meta[new] = meta.pop(old)
     meta["memory"], meta["headers"] = mem, watch
     state.restore(m, meta)

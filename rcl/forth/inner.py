@@ -39,7 +39,7 @@ import math
 import os
 
 from rcl.errors import Bye, ForthError, Terminated, as_forth_error
-from rcl.forth import control, state
+from rcl.forth import control, state, wordloc
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import REGISTRY, prim
 
@@ -234,6 +234,18 @@ class Inner:
             if len(self.rs) < REACH:
                 return ForthError(-6)
         return ForthError(-4095, "Internal error: IndexError: %s" % exc)
+
+    def traced(self, exc):
+        """forth_error(exc) for an error about to be reported, with the words
+        it ran through (wordloc.py), worked out now from the return stack and
+        exc's traceback, once. (CATCH does not pay for this.)"""
+        e = self.forth_error(exc)
+        if e.backtrace is None:
+            try:
+                e.backtrace = wordloc.backtrace(self, self.rs, exc.__traceback__)
+            except Exception:                    # a broken dictionary: no backtrace
+                e.backtrace = []
+        return e
 
     def rs_overflow(self):
         del self.rs[:]

@@ -13,7 +13,7 @@ import sys
 import threading
 
 from rcl.board import NullBoard
-from rcl.errors import Bye, ForthError, file_error
+from rcl.errors import Bye, ForthError, open_source
 from rcl.forth import inner, state
 from rcl.forth.compiler import compile_code
 from rcl.forth.decode import TooLarge
@@ -23,6 +23,7 @@ from rcl.forth.memory import (DICT_START, MASK, USER_AREA, WATCH_CODE,
                               WATCH_HEADER, Memory, signed)
 from rcl.forth.outer import Outer
 from rcl.forth.primitives import CLOCK_HZ, REGISTRY
+from rcl.forth.wordloc import Locations
 from rcl import words as _words  # noqa: F401  (registers every word set)
 
 # Forth calls nest as Python calls in compiled code: leave room for the
@@ -47,6 +48,10 @@ state.system("forth_wid", lambda m: 0)
 state.system("root_wid", lambda m: 0)
 state.system("included", lambda m: set(), lambda m: sorted(m.included),
              lambda m, d: setattr(m, "included", set(d)))
+# The file:line each address of the dictionary came from (wordloc.py): the
+# system's, as its code is (a saved system's backtraces name its files).
+state.system("locations", lambda m: Locations(), lambda m: m.locations.plain(),
+             lambda m, d: setattr(m, "locations", Locations.from_plain(d)))
 
 
 def attr_name(var):
@@ -215,10 +220,7 @@ class Forth(Inner, Outer):
 
     def include(self, path):
         """Load a text file, as INCLUDE does."""
-        try:
-            f = open(path, encoding="latin-1")
-        except OSError as exc:
-            raise file_error(exc, path) from None
+        f = open_source(path)
         self.included.add(os.path.abspath(path))     # as INCLUDE does: REQUIRE sees it
         with f, self.breakable():
             lines = (line.rstrip("\r\n") for line in f)
@@ -267,7 +269,7 @@ class Forth(Inner, Outer):
         except Bye:
             raise
         except (Exception, KeyboardInterrupt) as exc:   # never a traceback
-            e = self.forth_error(exc)
+            e = self.traced(exc)
             if e.code == -56:              # QUIT: back to the prompt, stack kept
                 self.quit()
                 return None

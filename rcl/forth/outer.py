@@ -96,6 +96,7 @@ class Outer:
             if text is None:
                 return False
         src.line += 1
+        self.locations.mark(self.dictionary.here, src.name, src.line)
         self.set_line(src, text)
         return True
 
@@ -243,7 +244,7 @@ class Outer:
         except (Exception, KeyboardInterrupt) as exc:
             if isinstance(exc, Bye):
                 raise
-            e = self.forth_error(exc)
+            e = self.traced(exc)
             if e.file is None:
                 e.file, e.line = name, src.line
             raise e from None

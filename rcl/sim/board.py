@@ -49,6 +49,7 @@ from rcl.sim.timer80188 import (INH as INH_BIT, INT as INT_BIT, P as P_BIT, T0_C
                                 TIMER_CLOCK, Timer80188)
 
 MS = CLOCK_HZ // 1000                     # clock units per physics sub-step
+SKIP_CHUNK = CLOCK_HZ                     # skip_to_tick: physics and Ctrl-C each virtual second
 LOW_RAM = 0x10000                         # segment 0's 64 KiB
 DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
@@ -478,7 +479,12 @@ class SimBoard(Board):
         last = max(m.clock, self.due) + (n - 2) * period
         self.quiet = True
         try:
-            m.advance_to(last - 1)            # every tick but the last, INT 1Ch idle
+            # Every tick but the last, INT 1Ch idle; the physics brought up a
+            # second at a time (a relay may be on: a day of it in one go took
+            # minutes, deaf to Ctrl-C), which advance_to takes between ticks.
+            while m.clock < last - 1:
+                m.advance_to(min(last - 1, m.clock + SKIP_CHUNK))
+                self.sync()
         finally:
             self.quiet = False
         m.advance_to(last)                    # the last one as usual

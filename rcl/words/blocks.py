@@ -16,6 +16,7 @@ Block 0 can never be loaded (BLK = 0 means the terminal). An error in a
 loaded screen names the file, the screen and the line.
 """
 import os
+import stat
 
 from rcl.blocks import LINE, LINES, BlockFormatError, is_block_file, text_to_blocks
 from rcl.errors import ForthError, RclError
@@ -28,6 +29,8 @@ from rcl.words.compiling import parse_word
 BLOCK = 1024
 NBUF = 2
 SCRATCH_BLOCKS = 1024          # the scratch file: 1 MiB of host memory at most
+SNIFF = 64 * BLOCK             # what USING reads to tell text from blocks
+MAX_TEXT = 1 << 20             # a text file USING keeps in memory as screens
 MAX_NEW = 4096                 # CREATE-BLOCKS and MORE add at most this many at once
 FILE_ERROR = -37
 
@@ -45,17 +48,23 @@ class BlockFile:
         self.current = 0
 
     def open(self, path):
-        """Open path as the block file (a text file read only)."""
+        """Open path as the block file (a text file read only). A block file
+        stays on disk, read a block at a time; a text file's screens are
+        kept in memory, so it may hold at most MAX_TEXT bytes."""
+        size = regular_size(path)
         with open(path, "rb") as f:
-            raw = f.read()
-        readonly = not is_block_file(path, raw)
-        if readonly:
-            raw = text_to_blocks(raw.decode("latin-1"), path)
+            head = f.read(SNIFF)               # (a line end in it: a text file)
+            readonly = not is_block_file(path, head)
+            if readonly:
+                if size > MAX_TEXT:
+                    raise ForthError(FILE_ERROR, "%s is a text file of %d bytes: USING reads "
+                                     "at most %d of text" % (path, size, MAX_TEXT))
+                raw = text_to_blocks((head + f.read(MAX_TEXT)).decode("latin-1"), path)
         self.flush()
         self.path, self.readonly = path, readonly
-        self.data = bytearray(raw[:len(raw) - len(raw) % BLOCK])   # a CP/M tail is not a block
-        self.blocks = len(self.data) // BLOCK
-        self.buffers = [[None, False] for _ in range(NBUF)]
+        self.data = bytearray(raw[:len(raw) - len(raw) % BLOCK]) if readonly else bytearray()
+        self.blocks = len(self.data) // BLOCK if readonly else size // BLOCK   # (a CP/M tail
+        self.buffers = [[None, False] for _ in range(NBUF)]                    # is not a block)
 
     def create(self, path, n):
         """A new block file of n blank screens, then open it."""
@@ -64,9 +73,10 @@ class BlockFile:
         self.open(path)
 
     def more(self, n):
-        """F83's MORE: n blank blocks at the end of the open file."""
+        """F83's MORE: n blank blocks at the end of the open file; if they
+        cannot all be written (a full disk), the file keeps its old size."""
         self.check_writable()
-        self.write_file(self.blocks * BLOCK, b" " * (BLOCK * n))
+        self.write_file(self.blocks * BLOCK, b" " * (BLOCK * n), truncate_on_error=True)
         self.blocks += n
 
     @property
@@ -150,12 +160,19 @@ class BlockFile:
             self.data[blk * BLOCK:(blk + 1) * BLOCK] = data
         self.buffers[i][1] = False
 
-    def write_file(self, offset, data):
-        """Write data at offset of the block file in place (nothing else moves)."""
+    def write_file(self, offset, data, truncate_on_error=False):
+        """Write data at offset of the block file in place (nothing else
+        moves); growing it (truncate_on_error), a failed write is undone."""
         try:
-            with open(self.path, "r+b") as f:
+            with open_file(self.path, "r+b") as f:
                 f.seek(offset)
-                f.write(data)
+                try:
+                    f.write(data)
+                    f.flush()
+                except OSError:
+                    if truncate_on_error:
+                        f.truncate(offset)
+                    raise
         except OSError as exc:
             raise ForthError(FILE_ERROR, "Cannot write %s: %s" % (self.path, exc.strerror)) from None
 
@@ -194,12 +211,30 @@ def reopen_blocks(m, path):
     if path:
         try:
             m.blocks.open(path)
-        except (OSError, RclError):
+        except (OSError, RclError, ValueError):   # gone, or no longer a block file
             pass
 
 
 # The open block file is the system's (an image names it; its buffers start empty).
 state.system("blocks", BlockFile, lambda m: m.blocks.path, reopen_blocks)
+
+
+def open_file(path, mode):
+    """open(), kept a name of its own so a test can give a file that fails."""
+    return open(path, mode)
+
+
+def regular_size(path):
+    """The size of path if it is a regular file; else a Forth error (a FIFO,
+    /dev/zero or a directory would be read forever or not at all)."""
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        raise ForthError(-38 if isinstance(exc, FileNotFoundError) else FILE_ERROR,
+                         "Cannot open %s: %s" % (path, exc.strerror)) from None
+    if not stat.S_ISREG(info.st_mode):
+        raise ForthError(FILE_ERROR, "%s is not a regular file" % path)
+    return info.st_size
 
 
 def bf(m):

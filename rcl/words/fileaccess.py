@@ -259,7 +259,7 @@ def next_line(f, u1):
     """(body, found): the next line, at most u1 bytes of it, without its
     end; a longer line is left for the next read past u1 bytes."""
     start = f.tell()
-    data = f.read(u1 + 2) if u1 < 0x8000 else f.readline()
+    data = f.read(u1 + 2)            # never more than the buffer takes (and its line end)
     if not data:
         return b"", False
     end = data.find(b"\n")

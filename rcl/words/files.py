@@ -7,7 +7,7 @@ Lines may be of any length the input area holds.
 """
 import os
 
-from rcl.errors import ForthError, file_error
+from rcl.errors import ForthError, open_source
 from rcl.forth import state
 from rcl.forth.primitives import prim
 
@@ -39,10 +39,7 @@ def screens_folder():
 
 def include_file(m, name):
     path = resolve(m, name)
-    try:
-        f = open(path, encoding="latin-1")
-    except OSError as exc:
-        raise file_error(exc, name) from None
+    f = open_source(path, name)
     m.included.add(os.path.abspath(path))
     with f:
         m.include_lines((line.rstrip("\r\n") for line in f), path)

@@ -1,5 +1,6 @@
-"""System words: BYE, ENVIRONMENT?, PAUSE, and F83's MS in virtual time."""
-from rcl.errors import Bye
+"""System words: BYE, ENVIRONMENT?, PAUSE, F83's MS in virtual time, and
+?DURATION (a wait's count checked)."""
+from rcl.errors import Bye, ForthError
 from rcl.forth.memory import MASK
 from rcl.forth.primitives import CLOCK_HZ, prim
 
@@ -37,6 +38,15 @@ def pause(m):
 @prim("MS", "( u -- ) wait u milliseconds of virtual time (F83's delay)", kind="call")
 def ms(m):
     m.advance_to(m.clock + m.s.pop() * (CLOCK_HZ // 1000))
+
+
+@prim("?DURATION", "( n -- n ) abort with \" Out of range \" if a wait's count n is "
+      "negative (RCL's SECONDS and MINUTES: ?DO would take -1 as 65535)")
+def q_duration(m):
+    # A primitive, not `DUP 0< ABORT" ..."` in the screen: loading RCL then
+    # takes the same virtual time, so INSTALL sets the timers in the same phase.
+    if m.s[-1] & 0x8000:
+        raise ForthError(-2, "Out of range")
 
 
 @prim("CLOCK@", "( -- d ) the virtual clock in microseconds")
