@@ -42,7 +42,7 @@ NUMBERS = ["0", "1", "-1", "2", "3.5", "0.1", "25.5", "40000", "-40000", "70000"
            "32767", "-32768", "1193.0464", "1194", "99999999999", "1.", "-1.", "0.00001",
            "12", "9.99999"]
 BUDGET = 9_000                  # primitives' worth of virtual time a line (0.25 s)
-MOTOR_BITS, ARM_BITS = 0x3F, 0x0F
+MOTOR_BITS, ARM_BITS = 0x35, 0x0F   # M1-ON M2-ON M1-GO M2-GO (the direction bits move nothing); arm, gripper
 
 
 def machine():
@@ -104,5 +104,15 @@ def run_line(m, text):
         outcome = "bye"
     assert not motors_on(m), "motors on after %r" % text
     reset_user_state(m)
-    assert m.evaluate("CANARY") == "3 ", "canary dead after %r" % text
+    try:
+        canary = m.evaluate("CANARY")
+    except rcl.ForthError as e:
+        # A tick handler the line put in (`' QUIT IS CONTROL`) faults at the
+        # next tick, which may come while the canary runs: the line's fault,
+        # reported as F83 reports it, in whatever runs; the tick is off now.
+        assert " in the tick handler" in e.message, "canary dead after %r: %s" % (text, e)
+        assert not motors_on(m), "motors on after %r" % text
+        reset_user_state(m)
+        canary = m.evaluate("CANARY")
+    assert canary == "3 ", "canary dead after %r" % text
     return outcome
