@@ -240,7 +240,14 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
         seq += 1
     assert ask(link, seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
     assert ask(link, seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
-    link.board.wait_for(lambda: False, 8)                # not read: about 80 s of board time
+    # Not read for about 80 s of board time, the watchdog fed all the while
+    # (PING every 10 ms of wall time, 100 ms of the board's): a host that
+    # only stopped reading is still there. Then silence: the watchdog.
+    end = time.monotonic() + 8
+    while time.monotonic() < end:
+        link.frame(0, "PING")
+        time.sleep(0.01)
+    link.board.wait_for(lambda: link.board.events("watchdog"), 5)
     # Drain what the full line holds (bounded: a board whose watchdog has
     # stopped its tick still sends a HEARTBEAT every 5 ms of wall time here).
     end = time.monotonic() + 3.0
@@ -348,11 +355,13 @@ def test_a_one_second_tick_on_the_uno_image_is_one_second(simavr):
         for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):      # INT 1Ch -> 1000:2A10
             assert ask(link, 3 + off, "FAR_STORE", seg=0, off=0x70 + off, value=value).name \
                 == "ACK"
-        ticks = []
-        while len(ticks) < 4:
-            f = link.receive("TICK", seconds=5)
-            assert f is not None
-            ticks.append(f["tick"])
+        ticks, end = [], time.monotonic() + 60          # (a bound for a broken board)
+        while len(ticks) < 4 and time.monotonic() < end:
+            link.frame(0, "PING")    # a host that stays: a silent one's watchdog stops the tick
+            f = link.receive("TICK", seconds=0.1)
+            if f is not None:
+                ticks.append(f["tick"])
+        assert len(ticks) == 4
         period = sim.figures()["tick_period_us"]
     finally:
         link.close()

@@ -557,12 +557,13 @@ class LinkBoard(Board):
             self.late_answer = (delay, tick["tick"], self.ticks)
 
     def explain(self, error):
-        """A following error or a lost link that comes after the host
-        answered a tick late is the host's doing, not the motors' or the
-        line's: say so, with the figure (docs/protocol.md section 5)."""
+        """A following error that comes after the host answered a tick
+        late is the host's doing, not the motors': say so, with the figure
+        (docs/protocol.md section 5). A lost link stays Link lost: a cut
+        line is the truth whatever the host did before it."""
         late, self.late_answer = self.late_answer, None
         if late is None or self.ticks - late[2] > LATE_WINDOW \
-                or error.message not in ("Following error", "Link lost"):
+                or error.message != "Following error":
             return error
         e = ForthError(-293, "Host too slow: answered tick %d after %d ms"
                        % (late[1], round(late[0] * 1000)))

@@ -229,9 +229,10 @@ def regular_size(path):
     /dev/zero or a directory would be read forever or not at all)."""
     try:
         info = os.stat(path)
+    except FileNotFoundError:
+        raise                          # USING says how to make one
     except OSError as exc:
-        raise ForthError(-38 if isinstance(exc, FileNotFoundError) else FILE_ERROR,
-                         "Cannot open %s: %s" % (path, exc.strerror)) from None
+        raise ForthError(FILE_ERROR, "Cannot open %s: %s" % (path, exc.strerror)) from None
     if not stat.S_ISREG(info.st_mode):
         raise ForthError(FILE_ERROR, "%s is not a regular file" % path)
     return info.st_size

@@ -521,7 +521,7 @@ def test_safe_with_a_payload_still_stops_the_wheels_and_is_refused(s):
 def test_after_the_watchdog_only_a_motor_latch_write_turns_the_wheel_again(s):
     start_left_wheel(s)
     s.advance(500, keep_alive=False)
-    s.hello()
+    s.hello()                           # a new session: the board as at power-on (section 6)
     assert stopped(s)
-    s.out8(MOTOR, 0x11)
+    start_left_wheel(s)                 # the reference set again, then the latch
     assert turned(s, 200) > 20
