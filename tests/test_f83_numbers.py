@@ -208,3 +208,11 @@ def test_strict_f83_single_literal_leaves_dpl_as_the_last_typed_number_set_it(fo
 
 def test_interpreted_number_sets_dpl_with_rcl_literals_on(forth):
     assert run(forth, ": X 1.25 ;  X 38.04 DPL @ .") == "2 "
+
+
+def test_digit_of_a_cell_that_upper_cases_to_two_letters_is_no_digit(forth):
+    # 223 is German sharp s (upper case SS), 0xFB06 the ligature st (ST):
+    # not digits in any base, never a Python error (found by the fuzz).
+    m = forth
+    assert m.evaluate("223 36 DIGIT . . 64262 36 DIGIT . U.") == "0 223 0 64262 "
+    assert m.evaluate("90 36 DIGIT . .") == "-1 35 "   # Z

@@ -31,7 +31,10 @@ class Number:
 
 
 def digit(c, base):
-    """The value of character c as a digit in base, or None."""
+    """The value of character c as a digit in base, or None. (c comes
+    upper-cased, which may make two letters of one: ß is SS, U+FB06 ST.)"""
+    if len(c) != 1:
+        return None
     if "0" <= c <= "9":
         v = ord(c) - 48
     elif "A" <= c <= "Z":
