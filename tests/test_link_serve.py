@@ -135,7 +135,8 @@ def test_rcl_board_listens_on_loopback_only_unless_allowed():
 def test_rcl_board_help_explains_every_option():
     run = subprocess.run([sys.executable, "-m", "rcl.hw.boardcli", "--help"],
                          capture_output=True, text=True, timeout=30)
-    options = run.stdout[run.stdout.index("options:"):]
+    # ("optional arguments:" before Python 3.10, "options:" since)
+    options = run.stdout[run.stdout.index("--help"):]
     # argparse puts an option with no help alone on its line, with no text after it
     for option in ("--corrupt RATE", "--seed SEED", "--cut-at S", "--cut-for S",
                    "--stall {left,right}", "--speak-version N", "--report FILE.json"):
