@@ -132,9 +132,12 @@ def session(where, image, command=FIRST):
     return left, right
 
 
-def within_a_count(counts, first):
-    """The same move from rest: each wheel within the count it stood in."""
-    return all(abs(a - b) <= 1 for a, b in zip(counts, first))
+def within_a_count(counts, first, slack=1):
+    """The same move from rest: each wheel within the count it stood in
+    (slack 2 on a board in real time: the host's speed writes may land a
+    tick's fraction late, as test_firmware_simavr's 1160 +- 2 allows).
+    A session that ran what the last one left reads 30 counts on."""
+    return all(abs(a - b) <= slack for a, b in zip(counts, first))
 
 
 # ------------------------------------------------------------------- raw
@@ -283,8 +286,9 @@ def test_twenty_sessions_on_one_running_board_each_drive_the_first_commands_coun
     b = board(kind)
     first = session(b.where, image)
     assert all(abs(c - 29) <= 2 for c in first)        # 1 inch: 28.4 counts, and the run-out
+    slack = 2 if kind in ("native", "uno") else 1
     for _ in range(SESSIONS - 1):
-        assert within_a_count(session(b.where, image), first)
+        assert within_a_count(session(b.where, image), first, slack)
 
 
 @pytest.mark.parametrize("kind", ["tcp", "native", "uno"])
