@@ -10,14 +10,8 @@ hardware facts (rcl/robot.py: port map, bits, geometry) and the 80188's
     PROPOSAL  a decision of the reference that makes the simulator concrete
     derived   computed here from the numbers above it (tag of its sources)
 
-Bit constants are masks (1 << bit), ready for `byte & MASK`:
-
-    MOTOR latch 0x88   7  6  5     4     3      2     1      0
-                       -  -  M2-GO M1-GO M2-REV M2-ON M1-REV M1-ON
-    AUX latch   0x89   7  6  5  4      3          2       1        0
-                       -  -  -  BEEPER GRIP-CLOSE GRIP-ON ARM-DOWN ARM-ON
-    STATUS      0x8A   7  6       5       4       3           2           1          0
-                       0  CHARGER M2-LOCK M1-LOCK GRIP-CLOSED GRIP-OPENED ARM-BOTTOM ARM-TOP
+Bit constants are masks (1 << bit), ready for `byte & MASK`; rcl/robot.py
+draws the latches' and the status port's bits.
 """
 
 from rcl import i80188
