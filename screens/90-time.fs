@@ -4,9 +4,12 @@
 \ Listing 3's calibrated loop `0 ?DO 33 0 DO LOOP LOOP`; here a CODE word
 \ spends exactly that loop's virtual time, with every tick still serviced;
 \ like every wait it refuses to start when no tick can come.
-CODE IDLE-CELLS  ( -- addr )  where (MS) finds what IDLE? reads (it runs no
-   Forth, so MS keeps its calibrated time): MOVING ARM-BITS ' CONTROL STOCK-CONTROL
-END-CODE  MOVING ,  ARM-BITS ,  ' CONTROL ,  STOCK-CONTROL ,
+: IDLE?  ( -- f )   \ every tick's handler would only read: a wait may skip
+   MOVING @ ARM-BITS @ OR 0=  STOCK? AND ;
+CODE IDLE-CELLS  ( -- addr )  where (MS) finds IDLE?, which it asks outside
+   time (MS keeps its calibrated time); then the cells IDLE? reads, which keep
+   this table and the load of the screens as long as they were
+END-CODE  ' IDLE? ,  MOVING ,  ARM-BITS ,  STOCK-CONTROL ,
 CODE (MS)  ( n -- )  spend 4 + 37n primitives of foreground time (after
    ?TICKING's check, at no cost); while IDLE? it counts idle ticks out.
 END-CODE
@@ -25,8 +28,6 @@ END-CODE
 
 CODE (SKIP-TO-TICK)  ( d -- )  let the clock run to that tick at once.
 END-CODE
-: IDLE?  ( -- f )   \ every tick's handler would only read: a wait may skip
-   MOVING @ ARM-BITS @ OR 0=  STOCK? AND ;
 : ?TIME  ( d -- )   \ a time of day that comes: 0 to the ticks of a day
    2DUP D0< >R  PER-DAY@ D< 0= R> OR ABORT" Bad time" ;
 : WAIT-UNTIL  ( d -- )   \ until the time of day is exactly d (maybe tomorrow)

@@ -118,3 +118,28 @@ def test_rcl_imports_and_drives_the_robot_without_its_optional_packages():
     m = rcl.open()
     m.evaluate("RERB 1 FEET FORWARD")
     assert counts == str(m.sim.wheel_counts)      # the same move as with them
+
+
+def code_strings(path):
+    """The string constants of a module's code, its docstrings left out."""
+    tree = ast.parse(path.read_text())
+    docs = {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef))
+            and node.body and isinstance(node.body[0], ast.Expr)
+            and isinstance(node.body[0].value, ast.Constant)}
+    return [node.value for node in ast.walk(tree)
+            if isinstance(node, ast.Constant) and isinstance(node.value, str)
+            and id(node) not in docs]
+
+
+def test_the_idle_rule_is_the_screens_alone():
+    # IDLE? (screens/90-time.fs) is the one rule of when every tick's
+    # handler would only read: (MS) asks that word, and no Python module of
+    # the machine, its word sets or the simulated board reads what it reads.
+    read_by_idle = ("MOVING", "ARM-BITS", "STOCK-CONTROL", "STOCK?")
+    assert all(w in screen_words() | {"STOCK?"} for w in read_by_idle)
+    for folder in ("forth", "words", "sim"):
+        for path in sorted((PACKAGE / folder).rglob("*.py")):
+            for text in code_strings(path):
+                assert not any(w in text.split() for w in read_by_idle), (path, text)
+

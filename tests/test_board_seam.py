@@ -7,7 +7,7 @@ import pathlib
 import rcl
 from rcl.board import Board, NullBoard
 from rcl.sim.board import SimBoard
-from rcl.words.rclcode import quiet
+from rcl.words.rclcode import idle_rule
 
 ROOT = pathlib.Path(rcl.__file__).parent
 HOOKS = ("out8", "in8", "out16", "in16", "far_fetch8", "far_store8", "port_script",
@@ -66,14 +66,29 @@ def test_a_machine_without_the_simulated_boards_fast_forward_waits_the_same():
         == (plain.sim.board.ticks, plain.sim.bios_ticks)
 
 
-def test_the_idle_rule_ms_reads_costs_no_time_and_follows_rcls_moving():
+def test_ms_asks_the_screens_idle_rule_at_no_cost_and_it_follows_rcls_moving():
     m = rcl.open()
+    idle = idle_rule(m)
+    assert m.dictionary.name_of(idle) == "IDLE?"   # the rule is the screens' word
     now = m.clock
-    assert quiet(m) and m.clock == now
+    assert m.ask(idle) and m.clock == now
     m.evaluate("-1 MOVING !")
-    assert not quiet(m)
-    m.evaluate("0 MOVING !  : IDLE?  0 ;")         # a user's IDLE? is not RCL's
-    assert quiet(m)
+    assert not m.ask(idle)
+    m.evaluate("0 MOVING !  -1 ARM-BITS !")
+    assert not m.ask(idle)
+    m.evaluate("0 ARM-BITS !  : IDLE?  0 ;")       # a user's IDLE? is not RCL's
+    assert idle_rule(m) == idle and m.ask(idle)
+
+
+def test_a_question_asked_outside_time_services_no_tick_however_long_it_runs():
+    m = rcl.open()
+    m.evaluate(": LONG  0  10000 0 DO 1+ LOOP ;")   # some 30 ticks' worth of primitives
+    xt = m.dictionary.find("LONG")[0]
+    now, ticks = m.clock, m.sim.board.ticks
+    assert m.ask(xt) == 10000
+    assert (m.clock, m.sim.board.ticks, m.stack) == (now, ticks, [])
+    m.evaluate("LONG DROP")                          # in time, it lets ticks in
+    assert m.sim.board.ticks > ticks
 
 
 def test_the_counter_words_find_their_state_when_the_name_means_something_else():
@@ -82,7 +97,7 @@ def test_the_counter_words_find_their_state_when_the_name_means_something_else()
     before = m.evaluate("?CNT1 D.")
     m.evaluate("VARIABLE CNT-STATE  12345 CNT-STATE !  VARIABLE MOVING  -1 MOVING !")
     assert m.evaluate("?CNT1 D.") == before
-    assert quiet(m)           # (MS)'s IDLE? still reads RCL's own MOVING
+    assert m.ask(idle_rule(m))    # (MS)'s IDLE? still reads RCL's own MOVING
 
 
 def test_the_null_board_floats_and_declines_everything():

@@ -9,7 +9,7 @@ import rcl
 def run(program, shortcuts):
     m = rcl.open()
     if not shortcuts:
-        m.sim.board.repeat_idle_ticks = lambda n, c: n     # MS ticks through
+        m.sim.board.repeat_idle_ticks = lambda clock, n, c, limit: (clock, n)  # MS ticks through
         m.sim.board.skip_to_tick = lambda target: None     # WAIT-UNTIL polls
     m.evaluate(program)
     board = m.sim.board

@@ -100,7 +100,7 @@ def test_ms_waits_the_same_with_its_shortcut_under_the_stock_control_word():
     def run(shortcut):
         m = rcl.open()
         if not shortcut:
-            m.sim.board.repeat_idle_ticks = lambda n, c: n
+            m.sim.board.repeat_idle_ticks = lambda clock, n, c, limit: (clock, n)
         m.evaluate("1000 MS")
         return m.clock, m.sim.board.ticks
     assert run(True) == run(False)

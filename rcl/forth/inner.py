@@ -161,11 +161,14 @@ class Inner:
         self.handler_deadline = math.inf
         # A wait's fast-forward, if the board behind the machine has one (a
         # simulated board gives itself at attach): an object with
-        #   wait_started()            a wait (MS) begins
-        #   repeat_idle_ticks(n, c)   n primitives of c units while every
-        #                             tick's handler only reads: counted in
-        #                             arithmetic, clock moved by catch_up,
-        #                             -> primitives left (n: declined)
+        #   wait_started()            a wait (spend_waiting) begins
+        #   repeat_idle_ticks(clock, n, c, limit) -> (clock, n left)
+        #                             n primitives of c units from clock, while
+        #                             every tick's handler only reads, counted
+        #                             in arithmetic, stopping before a handler
+        #                             would reach limit (the step budget); the
+        #                             machine moves its clock there (n left ==
+        #                             n: declined)
         #   skip_to_tick(target)      the time of day run to one tick short
         #                             of BIOS tick target at once (or not)
         # Each may decline; the result is the same as waiting tick by tick.
@@ -329,11 +332,6 @@ class Inner:
         self.stop_error = self.stop_error or error
         self.request_break()
 
-    @property
-    def budget_end(self):
-        """The clock value at which the foreground's step budget ends."""
-        return self.clock_limit
-
     def catch_up(self, t):
         """A board has accounted for the time up to t itself (idle ticks
         counted in arithmetic, or a board's own clock on a link): the clock
@@ -427,6 +425,46 @@ class Inner:
                 return
             self.clock += k * c
             n -= k
+
+    def spend_waiting(self, n, idle):
+        """spend(n) for a waiting word. With a fast-forward, while the Forth
+        word `idle` answers true (asked outside time: it is the rule of the
+        tick handler's program, that it would only read), the fast-forward
+        may count the ticks out in arithmetic instead: the same clock, ticks
+        and time of day. It is handed all it needs and says how far it got;
+        a tick's worth runs the ordinary way whenever it declines (which also
+        times the handler for it)."""
+        ff = self.fast_forward
+        if ff is None:
+            self.spend(n)
+            return
+        c = self.cost[DOCOL]
+        ff.wait_started()
+        while n > 0:
+            if self.ask(idle):
+                clock, left = ff.repeat_idle_ticks(self.clock, n, c, self.clock_limit)
+                self.catch_up(clock)
+                if left < n:
+                    n = left
+                    continue
+            k = min(n, max(1, -(-(int(self.deadline) - self.clock) // c)))
+            self.spend(k)
+            n -= k
+            if n and self.clock >= self.deadline:
+                self.housekeep()
+
+    def ask(self, xt):
+        """Run the Forth word xt outside virtual time; -> the cell it leaves.
+        Its primitives' time is given back and no interrupt is serviced
+        meanwhile, so a question (IDLE?) changes nothing a program sees."""
+        clock, deadline = self.clock, self.deadline
+        self.deadline = math.inf
+        try:
+            self.execute(xt)
+            return self.s.pop()
+        finally:
+            self.clock = clock
+            self.deadline = -1 if self.break_pending else deadline
 
     def advance_to(self, t):
         """Skip the clock forward to t, servicing every interrupt due on the

@@ -461,6 +461,10 @@ class SimBoard(Board):
     # What this board gives its machine as machine.fast_forward (rcl.sim's
     # capability, not the board interface's): waits that count idle ticks
     # in arithmetic, exactly as ticking through would leave everything.
+    # The machine asks RCL's own rule (the screens' IDLE?) before it calls
+    # repeat_idle_ticks, and hands it all it needs; this board adds only
+    # its own facts (nothing moves, no observer or pacer needs each tick,
+    # a handler timed in this wait).
 
     def skip_to_tick(self, target):
         """Let the time of day run until the BIOS count is one short of
@@ -490,31 +494,31 @@ class SimBoard(Board):
         m.advance_to(last)                    # the last one as usual
         self.sync()
 
-    def repeat_idle_ticks(self, n, c):
-        """The foreground spends n primitives of c clock units while every
-        tick's handler would take the same path and the same time as the
-        last one (the caller knows it does: nothing moves and the handler
-        only reads). Count it out tick by tick in arithmetic instead of
-        running it: the same clock, BIOS count and timer state. Returns the
-        primitives left (0, or all of n when it cannot)."""
-        m = self.machine
+    def repeat_idle_ticks(self, clock, n, c, limit):
+        """The foreground spends n primitives of c clock units from `clock`
+        while every tick's handler would take the same path and the same
+        time as the last one (the machine asked RCL's IDLE?: the handler
+        only reads; and nothing moves). Count it out tick by tick in
+        arithmetic instead of running it, stopping before a handler would
+        reach `limit` (the step budget): the same BIOS count and timer
+        state, the physics up to there. -> (the clock reached, primitives
+        left): (clock, n) when it cannot."""
         cost, d = self.handler_cost, self.due
         period = self.tick_period()
         if cost is None or d is None or cost >= period \
                 or self.pacer is not None or not self.still() \
                 or not self.observers_allow_batching():
-            return n
-        clock, n, ticks, last = count_out(m.clock, n, c, d, period, cost, m.budget_end)
+            return clock, n
+        clock, n, ticks, last = count_out(clock, n, c, d, period, cost, limit)
         if ticks:
             self.pcb.take_timer0_requests(last)
             self.pcb.acknowledge(last)
             self.pcb.write16(EOI_REG, EOI_TIMER, last)
             self.ticks += ticks
             self.count_ticks(ticks)
-        self.due = self.pcb.next_interrupt(self.pcb_time(max(m.clock, clock)))
-        m.catch_up(clock)
-        self.sync()
-        return n
+        self.due = self.pcb.next_interrupt(self.pcb_time(clock))
+        self.sync_to(clock)
+        return clock, n
 
     def wait_started(self):
         self.handler_cost = None          # trust only a tick timed in this wait

@@ -15,9 +15,10 @@ binds the name to a primitive that pushes its body's address, as CREATE
 would, and CODE records the word's xt in `m.xt_of` (kept by SAVE-SYSTEM),
 so a primitive finds the body from the xt: one dictionary lookup of
 Python's, at no virtual-time cost, and nothing added to MS or the tick.
-Layer 9's `IDLE-CELLS` is such a table of the addresses IDLE? reads:
-MOVING, ARM-BITS, CONTROL's xt and STOCK-CONTROL, laid down by the screen
-at load time (`MOVING , ARM-BITS , ...`).
+Layer 9's `IDLE-CELLS` is such a table: its first cell is IDLE?'s xt,
+laid down by the screen at load time (`' IDLE? , ...`), so (MS) asks the
+screens' own idle rule (RCL's, whatever a user defines as IDLE? later),
+and no copy of it is kept here.
 
 The tick script: INIT-COUNTERS (INSTALL's on a board not yet set up) and
 every check that the tick runs tell the board what RCL's handler reads
@@ -30,7 +31,6 @@ import struct
 from rcl.board import FORTH_CS, IN8, OUT8
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
-from rcl.forth.inner import DOCOL
 from rcl.forth.primitives import prim
 from rcl.i80188 import (EN, INT, PCB_BASE, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK,
                         VECTOR_USER_TICK, vector_address)
@@ -56,8 +56,8 @@ def code_table(name, effect):
 
 
 code_table("CNT-STATE", "( -- addr ) per wheel: previous counts, 32-bit totals")
-code_table("IDLE-CELLS", "( -- addr ) the addresses of MOVING ARM-BITS, the xt "
-           "of CONTROL, STOCK-CONTROL")
+code_table("IDLE-CELLS", "( -- addr ) IDLE?'s xt, the idle rule (MS) asks; then "
+           "the three variables IDLE? reads")
 
 
 def state_addr(m):
@@ -163,16 +163,10 @@ def q_ticking(m):
     check_ticking(m)
 
 
-def quiet(m):
-    """The Forth word IDLE?, read without running Forth (so MS keeps its
-    calibrated time): nothing under way that the control word would act on,
-    and RCL's own control word is the one on INT 1Ch. Only then is every
-    tick's handler known to do nothing but read."""
-    fetch, cells = m.memory.fetch, table(m, "IDLE-CELLS")
-    moving, arm_bits, control, stock = (fetch(cells + 2 * i) for i in range(4))
-    return fetch(moving) == 0 and fetch(arm_bits) == 0 \
-        and user_tick(m) == (FORTH_CS, control) \
-        and fetch((control + 2) & MASK) == fetch(stock)
+def idle_rule(m):
+    """The xt of RCL's IDLE? (IDLE-CELLS' first cell): the one rule, in the
+    screens, of when every tick's handler would only read."""
+    return m.memory.fetch(table(m, "IDLE-CELLS"))
 
 
 @prim("(MS)", "( n -- ) Listing 3's MS in virtual time: 37 primitives a "
@@ -182,27 +176,7 @@ def paren_ms(m):
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
     n = 1 + 37 * m.s.pop()
     check_ticking(m)
-    ff = m.fast_forward
-    if ff is None:                    # no shortcut: the loop's own time, tick by tick
-        m.spend(n)
-        return
-    c, board = m.cost[DOCOL], m.board
-    ff.wait_started()
-    while n > 0:
-        if quiet(m):
-            ticks_before = board.ticks
-            left = ff.repeat_idle_ticks(n, c)
-            if left == 0:
-                return
-            if board.ticks != ticks_before:
-                n = left
-                continue
-        # one tick's worth the ordinary way (it also times the handler)
-        k = min(n, max(1, -(-(int(m.deadline) - m.clock) // c)))
-        m.spend(k)
-        n -= k
-        if n and m.clock >= m.deadline:
-            m.housekeep()
+    m.spend_waiting(n, idle_rule(m))
 
 
 @prim("(SKIP-TO-TICK)", "( d -- ) let the time of day run to BIOS tick d at once, "
