@@ -143,3 +143,11 @@ def test_the_idle_rule_is_the_screens_alone():
             for text in code_strings(path):
                 assert not any(w in text.split() for w in read_by_idle), (path, text)
 
+
+def test_the_simulated_board_wires_the_8253s_through_the_chips_interface():
+    # rcl/sim/i8253.py: clk(i), port(i), write_control, out_frequency;
+    # the board reaches no counter inside a chip.
+    tree = ast.parse((PACKAGE / "sim" / "board.py").read_text())
+    reached = [node.lineno for node in ast.walk(tree)
+               if isinstance(node, ast.Attribute) and node.attr == "counters"]
+    assert reached == []

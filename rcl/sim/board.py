@@ -55,11 +55,8 @@ DWORD = struct.Struct("<I")              # the BIOS's 32-bit counts
 NO_MOTION = ((0, 0), (0, 0))             # no pulses from either wheel
 
 
-class CutWire:
-    """An encoder's line cut (the "encoder" fault): its pulses reach no counter."""
-
-    def clock(self, n):
-        pass
+def cut_wire(n):
+    """An encoder's line cut (the "encoder" fault): its n pulses reach no counter."""
 
 
 class SimBoard(Board):
@@ -68,10 +65,7 @@ class SimBoard(Board):
     def __init__(self, port_log=False):
         self.clock = 0                    # the time chips and physics are at
         self.pcb = Timer80188.power_on(0)
-        self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
-        self.encoders = (self.chips[C.LEFT_8253].counters[1:]      # the wheels' CLK1 CLK2
-                         + self.chips[C.RIGHT_8253].counters[1:])
-        self.clk0 = {C.LEFT_8253: 0, C.RIGHT_8253: 0}   # 125 kHz pulses delivered
+        self._new_chips(0)
         self.drive = Drive()
         self.motor_latch = 0
         self.aux_latch = 0
@@ -89,7 +83,6 @@ class SimBoard(Board):
         self.quiet = False                # INT 1Ch skipped (skip_to_tick)
         self.handler_cost = None          # clock units the last INT 1Ch handler took
         self.due = None                   # the next interrupt (refresh_due)
-        self.writers, self.readers = self._port_map()
         self._power_on_bios()
 
     def attach(self, machine):
@@ -140,20 +133,33 @@ class SimBoard(Board):
             self.machine.memory.cstore(a - LOW_RAM, byte)
 
     # ------------------------------------------------------------- ports
+    def _new_chips(self, now):
+        """Both 8253s as at power-on, wired through the chip's own interface:
+        the 125 kHz clock to each counter 0 (its pulses counted from now),
+        each wheel's encoder to counters 1 and 2 (forward, reverse), the
+        port map to their addresses."""
+        self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
+        self.ref_clk = {base: chip.clk(0) for base, chip in self.chips.items()}
+        self.clk0 = {base: now * C.F_8253_CLK // CLOCK_HZ for base in self.chips}   # pulses delivered
+        self.encoders = tuple(self.chips[base].clk(i) for base in (C.LEFT_8253, C.RIGHT_8253)
+                              for i in (1, 2))
+        self.writers, self.readers = self._port_map()
+
     def _port_map(self):
         """The board's port decoding, once: port -> what a write of a byte
         does (byte, now) and what a read gives (now). The PCB's 256 ports
         are decoded apart; any other port floats."""
         writers, readers = {}, {}
         for base, chip in self.chips.items():
-            ref, fwd, rev = chip.counters
-            writers[base] = functools.partial(self._write_reference, base)
+            write, read, acts = chip.port(0)
+            writers[base] = functools.partial(self._write_reference, base, write, acts)
             writers[base + 3] = functools.partial(self._write_control, base)
-            readers[base] = functools.partial(self._read_reference, base)
+            readers[base] = functools.partial(self._read_reference, base, read)
             readers[base + 3] = self._read_control
-            for offset, counter in ((1, fwd), (2, rev)):
-                writers[base + offset] = functools.partial(self._write_encoder, counter)
-                readers[base + offset] = functools.partial(self._read_encoder, counter)
+            for offset in (1, 2):
+                write, read, _ = chip.port(offset)
+                writers[base + offset] = functools.partial(self._write_encoder, write)
+                readers[base + offset] = functools.partial(self._read_encoder, read)
         writers[C.MOTOR_PORT] = functools.partial(self._latch, C.MOTOR_PORT)
         writers[C.AUX_PORT] = functools.partial(self._latch, C.AUX_PORT)
         readers[C.STATUS_PORT] = self._read_status
@@ -190,14 +196,13 @@ class SimBoard(Board):
             return word >> 8 if port & 1 else word & 0xFF
         return 0xFF                       # unused ports and write-only latches float
 
-    def _write_reference(self, base, byte, now):
+    def _write_reference(self, base, write, acts, byte, now):
         """Counter 0, the speed reference: a count's byte."""
-        counter = self.chips[base].counters[0]
-        if not counter.write_acts(byte):    # CLK may catch up later, as if before
-            counter.write(byte)
+        if not acts(byte):                  # CLK may catch up later, as if before
+            write(byte)
             return
         self._clock_ref(base, now)
-        if counter.write(byte):
+        if write(byte):
             self._new_references(now)
 
     def _write_control(self, base, byte, now):
@@ -215,21 +220,22 @@ class SimBoard(Board):
             self.sync_to(now)
             self.refs = refs
 
-    def _write_encoder(self, counter, byte, now):
+    def _write_encoder(self, write, byte, now):
         self.sync_to(now)
-        counter.write(byte)
+        write(byte)
 
-    def _read_reference(self, base, now):
+    def _read_reference(self, base, read, now):
         self._clock_ref(base, now)
-        return self.chips[base].counters[0].read()
+        return read()
 
     def _read_control(self, now):
         return I8253.CONTROL_READ           # write-only
 
-    def _read_encoder(self, counter, now):
-        if not counter.latched:             # CE itself: the pulses up to now
-            self.sync_to(now)
-        return counter.read()
+    def _read_encoder(self, read, now):
+        # The pulses up to now (the tick's reads follow their latch at the
+        # same instant, which brought the physics there already: no work)
+        self.sync_to(now)
+        return read()
 
     def _read_status(self, now):
         self.sync_to(now)
@@ -288,14 +294,14 @@ class SimBoard(Board):
     def _clock_ref(self, base, now):
         """Bring counter 0 (the 125 kHz speed reference) up to now."""
         pulses = now * C.F_8253_CLK // CLOCK_HZ
-        self.chips[base].counters[0].clock(pulses - self.clk0[base])
+        self.ref_clk[base](pulses - self.clk0[base])
         self.clk0[base] = pulses
 
     def references(self):
         """The two PLL reference frequencies, Hz (0 if not running)."""
         chips = self.chips
-        return (chips[C.LEFT_8253].counters[0].frequency(C.F_8253_CLK),
-                chips[C.RIGHT_8253].counters[0].frequency(C.F_8253_CLK))
+        return (chips[C.LEFT_8253].out_frequency(0, C.F_8253_CLK),
+                chips[C.RIGHT_8253].out_frequency(0, C.F_8253_CLK))
 
     # ----------------------------------------------------------- physics
     def sync(self):
@@ -346,13 +352,13 @@ class SimBoard(Board):
         (lf, lr), (rf, rr) = pulses
         left_fwd, left_rev, right_fwd, right_rev = self.encoders
         if lf:
-            left_fwd.clock(lf)
+            left_fwd(lf)
         if lr:
-            left_rev.clock(lr)
+            left_rev(lr)
         if rf:
-            right_fwd.clock(rf)
+            right_fwd(rf)
         if rr:
-            right_rev.clock(rr)
+            right_rev(rr)
 
     # -------------------------------------------------------- interrupts
     def refresh_due(self):
@@ -543,10 +549,10 @@ class SimBoard(Board):
     def connect_encoder(self, side, counting):
         """Wheel `side` (0 left, 1 right): its encoder's pulses reach its
         8253's counters 1 and 2, or (counting false) no counter at all."""
-        base = (C.LEFT_8253, C.RIGHT_8253)[side]
+        chip = self.chips[(C.LEFT_8253, C.RIGHT_8253)[side]]
         wires = list(self.encoders)
-        wires[2 * side:2 * side + 2] = (self.chips[base].counters[1:] if counting
-                                        else (CutWire(), CutWire()))
+        wires[2 * side:2 * side + 2] = (chip.clk(1), chip.clk(2)) if counting \
+            else (cut_wire, cut_wire)
         self.encoders = tuple(wires)
 
     def stop_motors(self):
@@ -567,11 +573,7 @@ class SimBoard(Board):
         self.stop_motors()
         self.aux_latch = 0
         self.pcb = Timer80188.power_on(now)
-        self.chips = {C.LEFT_8253: I8253(), C.RIGHT_8253: I8253()}
-        self.encoders = (self.chips[C.LEFT_8253].counters[1:]
-                         + self.chips[C.RIGHT_8253].counters[1:])
-        self.clk0 = {base: now * C.F_8253_CLK // CLOCK_HZ for base in self.chips}
-        self.writers, self.readers = self._port_map()
+        self._new_chips(now)
         self.refs = (0.0, 0.0)
         self.low = bytearray(LOW_RAM)
         self._power_on_bios()

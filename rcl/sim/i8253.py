@@ -351,6 +351,18 @@ class I8253:
 
     read(offset) and write(offset, byte) take offsets from the chip's base
     port; only A1 A0 reach the chip, so the offset is taken mod 4.
+
+    What a board wires to it, bound once (its port map and its clocks call
+    these on every tick, so no per-access dispatch on the offset):
+      clk(i) -> pulse(n)            counter i's CLK input: n pulses at once
+      port(i) -> (write, read, acts)  counter i's address: write(byte) ->
+                                    True if it completed a count; read() ->
+                                    a byte of the count as read back;
+                                    acts(byte): would that write act on the
+                                    counting now (Counter.write_acts), so
+                                    that CLK must be brought up first
+      write_control(byte)           the control word (offset 3)
+      out_frequency(i, f_clk)       OUT's frequency for a CLK of f_clk Hz
     """
 
     OFFSET_MASK = 0b11
@@ -381,6 +393,20 @@ class I8253:
             self.write_control(byte)
             return False
         return self.counters[offset].write(byte)
+
+    def clk(self, i):
+        """Counter i's CLK input: a function taking n pulses."""
+        return self.counters[i].clock
+
+    def port(self, i):
+        """Counter i's address: (write(byte), read(), acts(byte))."""
+        counter = self.counters[i]
+        return counter.write, counter.read, counter.write_acts
+
+    def out_frequency(self, i, f_clk):
+        """Counter i's OUT frequency for a CLK of f_clk Hz (0.0 if it
+        does not run in mode 2 or 3)."""
+        return self.counters[i].frequency(f_clk)
 
     @classmethod
     def decode(cls, byte):
