@@ -62,7 +62,10 @@ def open(realtime=False, write=None, screens=True, image=None,  # noqa: A001  (D
             fresh.sim = Sim(fresh.board)
             load_rcl(fresh, screens, None)
             return fresh
-        m = startcache.open_loaded(screens if isinstance(screens, str) else SCREENS, write, load)
+        folder = screens if isinstance(screens, str) else SCREENS
+        m = startcache.open_loaded(folder, write, load)
+        m.sim = Sim(m.board)              # a copy's session, as load_rcl leaves one
+        m.screens_dir, m.documented_end = folder, m.dictionary.here
     else:
         board = board if board is not None else SimBoard()
         m = Forth(write=write, board=board)

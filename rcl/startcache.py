@@ -22,11 +22,17 @@ written for a week (other builds') are removed. The file is trusted
 as Python trusts its own __pycache__: both are written by the user's own
 account, and a cache folder that cannot be written just means no cache.
 
-What a copy holds: the machine and its board exactly as the load left
-them, but for compiled code (rebuilt on first use, and the compiled code
-and the reference loop take the same virtual time: tests/test_compiler_*)
-and the output callback (the caller's). The first open returns a copy too,
-so every system rcl.open() gives starts the same way.
+What a copy holds: the Forth system as the one snapshot of
+rcl/forth/state.py takes it (the memory, its header marks and every
+system field a word set declares: what a new machine is copied from at
+boot and what SAVE-SYSTEM writes), the machine's time (its clock, the
+next housekeeping, the interrupts so far) and count of files included,
+and the board, pickled as the load left it. A copy is a new machine
+restored from that snapshot, its session state fresh, at that time, on
+that board; compiled code is rebuilt on first use (the compiled code and
+the reference loop take the same virtual time: tests/test_compiler_*).
+The first open returns a copy too, so every system rcl.open() gives
+starts the same way.
 """
 import io
 import os
@@ -36,11 +42,13 @@ import time
 import zlib
 
 import rcl
-from rcl.forth.machine import CLEAR_CODE
+from rcl.forth import state
+from rcl.forth.machine import Forth
 
-MAGIC = b"RCLSTART1\n"
+MAGIC = b"RCLSTART2\n"
 PACKAGE = os.path.dirname(os.path.abspath(__file__))
-_kept = {}                                  # key -> pickled system, this process
+_kept = {}                                  # key -> pickled copy, this process
+LOADED = ("clock", "hk_next", "interrupts", "file_ids")  # the machine's, as the load left them
 STALE_S = 7 * 24 * 3600                     # a copy unused this long is removed
 
 
@@ -97,18 +105,28 @@ class _Pickler(pickle.Pickler):
 
 
 def snapshot(m):
-    """The pickled system m, without its compiled code and output callback
-    (m itself is left as it was)."""
-    fn, write, watch = m.fn, m.write, bytes(m.watch)
-    m.fn, m.write = {}, None
-    m.watch[:] = watch.translate(CLEAR_CODE)
+    """The loaded system m as a copy's bytes: state.snapshot(m), the
+    machine's time and its board (m itself is left as it was)."""
+    board = m.board
+    board.machine = None                    # the board alone, not the machine again
     try:
         out = io.BytesIO()
-        _Pickler(out, protocol=pickle.HIGHEST_PROTOCOL).dump(m)
+        _Pickler(out, protocol=pickle.HIGHEST_PROTOCOL).dump(
+            (state.snapshot(m), [getattr(m, name) for name in LOADED], board))
         return out.getvalue()
     finally:
-        m.fn, m.write = fn, write
-        m.watch[:] = watch
+        board.machine = m
+
+
+def restored(data, write):
+    """A new machine made from a copy's bytes, writing to `write`."""
+    snap, loaded, board = pickle.loads(data)
+    m = Forth(write=write, system=snap)
+    for name, value in zip(LOADED, loaded):
+        setattr(m, name, value)
+    m.board = board
+    board.attach(m)                         # its interrupts from the copy's time on
+    return m
 
 
 def fetch(k):
@@ -158,7 +176,7 @@ def open_loaded(screens_dir, write, load):
     """A system with RCL loaded from screens_dir: a copy of the one kept, or
     load() -> a machine (with no output callback), kept for next time."""
     k = key(screens_dir)
-    m = copy_of(k, fetch(k))
+    m = copy_of(k, fetch(k), write)
     if m is None:
         m = load()
         if m.out:                           # the load said something: not the same
@@ -169,20 +187,19 @@ def open_loaded(screens_dir, write, load):
             return m
         data = snapshot(m)
         keep(k, data)
-        # A copy even the first time: pickling asked every object for its
-        # __dict__, which leaves the loaded system slower (see _Pickler).
-        m = pickle.loads(data)
-    m.write = write
+        # A copy even the first time: pickling asked the board's objects for
+        # their __dict__, which leaves the loaded board slower (see _Pickler).
+        m = restored(data, write)
     return m
 
 
-def copy_of(k, data):
-    """The system pickled in data, or None (no data, or none this code can
+def copy_of(k, data, write):
+    """The system kept in data, or None (no data, or none this code can
     read: it is forgotten, and the screens are loaded again)."""
     if data is None:
         return None
     try:
-        return pickle.loads(data)
+        return restored(data, write)
     except Exception:                       # noqa: B902  (whatever a stale pickle raises)
         _kept.pop(k, None)
         return None

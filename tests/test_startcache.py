@@ -2,12 +2,14 @@
 system the screens build, exactly; the copy is used only for the code and
 screens it was made from, and a bad or unwritable cache is no error."""
 import os
+import pickle
 import shutil
 
 import pytest
 
 import rcl
 from rcl import startcache
+from rcl.forth import state
 from rcl.sim.board import SimBoard
 
 SQUARE = os.path.join(rcl.SCREENS, "examples", "listing1.fs")
@@ -111,3 +113,16 @@ def test_copies_not_written_for_a_week_are_removed_when_a_new_one_is_kept(cache)
     os.utime(old, (0, 0))
     rcl.open()
     assert not old.exists() and recent.exists() and len(files(cache)) == 2
+
+
+def test_a_kept_copy_is_the_one_snapshot_the_machines_time_and_the_board(cache):
+    # state.py's snapshot (what SAVE-SYSTEM writes and the boot copy is):
+    # no machine or word set object is pickled, only the board.
+    m = rcl.open()
+    data = startcache._kept[startcache.key(rcl.SCREENS)]
+    snap, (clock, *_), board = pickle.loads(data)
+    assert set(snap) == set(state.SYSTEM) | {"memory", "headers"}
+    assert b"rcl.forth" not in data and b"rcl.words" not in data
+    assert isinstance(board, SimBoard) and board.machine is None
+    assert clock == m.clock and snap["memory"] == bytes(m.mem)
+    assert m.board.machine is m and m.fast_forward is m.board

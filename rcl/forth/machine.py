@@ -66,7 +66,7 @@ class Forth(Inner, Outer):
 
     _image = None                      # the booted memory, shared per process
 
-    def __init__(self, write=None, board=None):
+    def __init__(self, write=None, board=None, system=None):
         self.memory = Memory(self.watched)
         self.mem = self.memory.mem
         self.watch = self.memory.watch
@@ -85,12 +85,12 @@ class Forth(Inner, Outer):
         self.in_safe_state = False     # running the abort hooks (after an error)
         self._init_inner()
         self._init_outer()
-        state.init(self)                   # every word set's declared state, fresh
-        if type(self)._image is None:
+        if system is None and type(self)._image is None:
+            state.init(self)               # every word set's declared state, fresh
             self._boot()
             type(self)._image = state.snapshot(self)
-        else:
-            state.restore(self, type(self)._image)
+        else:                              # the booted system, or the one given
+            state.restore(self, type(self)._image if system is None else system)
         self.board = board if board is not None else NullBoard()
         self.board.attach(self)
 
