@@ -262,8 +262,8 @@ def describe(mv):
     return "\n".join(lines)
 
 
-@prim(".MOVES", "( -- ) the last moves: the words that commanded each, its "
-      "distance, speed, breakpoints, times and poses", kind="call")
+@prim(".MOVES", "( -- ) the last 20 moves (1000 are kept): the words that commanded "
+      "each, its distance, speed, breakpoints, times and poses", kind="call")
 def dot_moves(m):
     log = m.moves
     shown = list(log.moves)[-SHOWN:]
