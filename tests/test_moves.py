@@ -115,6 +115,34 @@ def test_a_move_stopped_by_a_following_error_says_so():
     assert m.moves.moves[-1].how == "following error, left"
 
 
+def test_a_move_ctrl_c_stopped_is_logged_as_stopped():
+    m = rcl.open()
+    board, start = m.sim.board, m.sim.board.ticks
+
+    def break_in(b):                    # Ctrl-C 50 ticks into the move
+        if b.ticks == start + 50:
+            m.request_break()
+    board.observers.append(break_in)
+    with pytest.raises(rcl.ForthError, match="Interrupted"):
+        m.evaluate("3 FEET FORWARD")
+    mv = m.moves.moves[-1]
+    assert mv.how == "stopped" and mv.end[0] - mv.start[0] == pytest.approx(0.5, abs=0.02)
+
+
+def test_on_a_board_over_a_link_the_log_has_rcls_numbers_and_no_pose():
+    m = rcl.open(port="rclsim://?rate=8")
+    try:
+        m.evaluate("RERB 2 MPH 6 INCHES FORWARD")
+        mv = m.moves.moves[-1]
+        # board-hardware.md 7.5: 6 INCHES is 170 counts, a triangle peaking at 5189 crpm
+        assert (mv.label, mv.counts, mv.top_crpm, mv.how) == ("FORWARD", 170, 5189, "done")
+        assert mv.start[3] is None and mv.start[1] is None
+        text = m.evaluate(".MOVES")
+        assert "6 INCHES forward, 170 counts a wheel, at 2 MPH" in text and " t " in text
+    finally:
+        m.board.close()
+
+
 def test_a_negative_distance_is_logged_the_way_the_robot_went():
     m = rcl.open()
     m.evaluate("-6 INCHES FORWARD")
