@@ -73,6 +73,8 @@ class Recording:
                 os.replace(self.tmp, self.trace_path)
             except OSError as e:
                 errors.append("--trace: %s: %s" % (self.trace_path, e.strerror))
+            except ValueError as e:              # a row the trace did not write
+                errors.append("--trace: %s: %s" % (self.trace_path, e))
             self.file = None
         if self.plot_path:
             from rcl.words.tracing import plot_to

@@ -4,8 +4,11 @@ for rcl.plot to draw (or a test to check). No matplotlib here.
 
     rows (rcl.sim.observe.Trace, or its CSV)    one per tick that changed:
       t x y heading left right ref_left ref_right motor aux arm jaw beeper
+      [word]  the words that commanded the move under way (the CSV's last
+              column; for rows in memory, made from the move log's marks)
           |
-    Track --> moves        a wheel's GO relay bit on, from set to clear
+    Track --> moves        a wheel's GO relay bit on, from set to clear,
+                           and its word
           --> speed(w)     counts/s from the counts' change in each tick
           --> commanded(w) the reference frequency summed over the move:
                            where the PLL was told to be (RCL's EXPACC/1200)
