@@ -73,6 +73,7 @@ class Board:
     Observation
       trace(file) -> recorder, or None
       status() -> a line for the prompt's status, or ""
+      pose() -> (x in, y in, heading deg) of the robot now, or None
       explain(error) -> the error to report (a cause the board knows)
     Faults (an optional capability: the simulated board has it)
       inject_fault(fault, wheel, value)   "stall", "load" or "encoder"
@@ -180,6 +181,11 @@ class Board:
     def status(self):
         """One line about the board for a status display, or ""."""
         return ""
+
+    def pose(self):
+        """Where the robot is now, (x, y, heading) in inches and degrees, if
+        this board can see it (the simulated one); else None."""
+        return None
 
     # --------------------------------------------------------------- faults
     def inject_fault(self, fault, wheel, value):

@@ -99,6 +99,7 @@ def figure(track, title=None, ferr_limit=FERR_LIMIT):
         times, cuts = [t - times[0] for t in times], [c - times[0] for c in cuts]
     draw_path(path_axes, track, ferr_limit)
     draw_speeds(speed_axes, detail, times)
+    label_times(speed_axes, detail, times)
     draw_positions(pos_axes, detail, times)
     draw_following(ferr_axes, detail, times, ferr_limit)
     for ax in (speed_axes, pos_axes, ferr_axes):
@@ -143,6 +144,7 @@ def draw_path(ax, track, limit=FERR_LIMIT):
         draw_arrows(ax, track, x, y, first, last, trip_colour(k), every)
     if len(trips) > 1:
         mark_trip_ends(ax, track, x, y, trips)
+    label_moves(ax, track, x, y, words=len(trips) == 1)
     start = ax.plot(x[0], y[0], "o", ms=10, mfc="none", mec="green", mew=2, label="start")[0]
     start.set_gid("start")
     end = ax.plot(x[-1], y[-1], "s", ms=9, mfc="none", mec="red", mew=2,
@@ -165,6 +167,36 @@ def draw_path(ax, track, limit=FERR_LIMIT):
     ax.set_title("path, top view" + ("" if track.pose_known else " (dead-reckoned)"))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", fontsize=8, ncol=2 if len(trips) > 3 else 1)
+
+
+def short_word(word):
+    """The last two words of a move's chain (`TURN-LEFT > LEFT`): the
+    command and what called it; the outer ones are the program itself."""
+    return " > ".join(word.split(" > ")[-2:]) if word else ""
+
+
+def label_moves(ax, track, x, y, words=True):
+    """Each move numbered in its trip, from 1, with its words (`words`;
+    a day's path has only the numbers: trip k's fifth move is the 5 in
+    trip k's colour); a straight move at its middle, a turn where it
+    turns. Each label's gid is `move-TRIP-N`."""
+    for move, (k, n) in zip(track.moves, track.move_numbers()):
+        a, b = max(move.first - 1, 0), move.last
+        turn = math.hypot(x[b] - x[a], y[b] - y[a]) < 0.25
+        i = a if turn else (a + b) // 2
+        text = "%d %s" % (n, short_word(move.word)) if words else str(n)
+        ax.annotate(text.strip(), (x[i], y[i]), xytext=(4, 4 if turn else -10),
+                    textcoords="offset points", fontsize=7 if words else 6,
+                    color=trip_colour(k - 1)).set_gid("move-%d-%d" % (k, n))
+
+
+def label_times(ax, track, times):
+    """On a time panel, each move's number in its trip and words, at its start."""
+    low, high = ax.get_ylim()
+    for move, (_, n) in zip(track.moves, track.move_numbers()):
+        ax.text(times[move.first], low + 0.02 * (high - low),
+                ("%d %s" % (n, short_word(move.word))).strip(), rotation=90,
+                fontsize=6, va="bottom", ha="right", color="dimgrey")
 
 
 def mark_trip_ends(ax, track, x, y, trips):

@@ -8,13 +8,17 @@ draw the plot.
     finish() -> [error text]              CSV moved into place, plot drawn
 
 The CSV streams into a temporary file beside FILE.csv and takes its name
-at the end, so an earlier FILE.csv is never left half-written.
+at the end, so an earlier FILE.csv is never left half-written. On the way
+it gains its last column, `word`: on each move's rows, the words that
+commanded the move (the move log's, rcl/words/moves.py).
 """
+import csv
 import os
 
 from rcl.errors import RclError
 from rcl.safefile import temporary_beside
-from rcl.words.tracing import start_trace, stop_trace
+from rcl.track import WORD, Words
+from rcl.words.tracing import marks_of, start_trace, stop_trace, tracer
 
 
 class RecordingError(RclError):
@@ -65,9 +69,12 @@ class Recording:
         if self.file is not None:
             try:
                 self.file.close()
+                add_words(self.tmp, marks_of(tracer(self.m)))
                 os.replace(self.tmp, self.trace_path)
             except OSError as e:
                 errors.append("--trace: %s: %s" % (self.trace_path, e.strerror))
+            except ValueError as e:              # a row the trace did not write
+                errors.append("--trace: %s: %s" % (self.trace_path, e))
             self.file = None
         if self.plot_path:
             from rcl.words.tracing import plot_to
@@ -76,3 +83,18 @@ class Recording:
             except RclError as e:
                 errors.append("--plot: %s" % (getattr(e, "message", None) or e))
         return errors
+
+
+def add_words(path, marks):
+    """Rewrite the CSV at path with the `word` column added, a row at a
+    time (a day's trace is large)."""
+    tmp = path + ".words"
+    with open(path, newline="") as src, open(tmp, "w", newline="") as dst:
+        rows, out = csv.reader(src), csv.writer(dst)
+        fields = next(rows, [])
+        out.writerow(fields + [WORD])
+        t, motor, words = fields.index("t"), fields.index("motor"), Words(marks)
+        for row in rows:
+            row.append(words(float(row[t]), float(row[motor])))
+            out.writerow(row)
+    os.replace(tmp, path)

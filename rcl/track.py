@@ -4,8 +4,11 @@ for rcl.plot to draw (or a test to check). No matplotlib here.
 
     rows (rcl.sim.observe.Trace, or its CSV)    one per tick that changed:
       t x y heading left right ref_left ref_right motor aux arm jaw beeper
+      [word]  the words that commanded the move under way (the CSV's last
+              column; for rows in memory, made from the move log's marks)
           |
-    Track --> moves        a wheel's GO relay bit on, from set to clear
+    Track --> moves        a wheel's GO relay bit on, from set to clear,
+                           and its word
           --> speed(w)     counts/s from the counts' change in each tick
           --> commanded(w) the reference frequency summed over the move:
                            where the PLL was told to be (RCL's EXPACC/1200)
@@ -28,6 +31,8 @@ FIELDS = ("t", "x", "y", "heading", "left", "right", "ref_left", "ref_right",
 WHEELS = {"left": (M1_GO, M1_REV), "right": (M2_GO, M2_REV)}
 TICK_S = 0.0100005            # RCL's tick: 6667 counts of 1.5 us
 CREEP_HZ = 50.0               # V-CREEP's 600 crpm as encoder counts a second
+WORD = "word"                 # the column naming the words that commanded each move
+TEXT_FIELDS = (WORD,)
 
 
 def memoized(method):
@@ -56,18 +61,44 @@ def load_csv(path):
     if not table or "t" not in table[0]:
         raise TraceError("%s: not a trace (no header naming t, left, right ...)" % path)
     fields = table[0]
+    text = [f in TEXT_FIELDS for f in fields]
     try:
-        rows = [tuple(None if v == "" else float(v) for v in row) for row in table[1:]]
+        rows = [tuple(v if is_text else None if v == "" else float(v)
+                      for v, is_text in zip(row, text)) for row in table[1:]]
     except ValueError as e:
         raise TraceError("%s: %s" % (path, e)) from None
     return Track(rows, fields)
 
 
-class Move:
-    """Rows first..last (last: the row in which the GO bits cleared)."""
+class Words:
+    """The words of the move under way at each row, rows in time order:
+    `words(t, motor)` -> the label of the last of `marks` [(start s,
+    label)] that started at or before t (a move starts between ticks, so
+    before its first row) while a GO bit is on in `motor`, else ""."""
 
-    def __init__(self, first, last):
-        self.first, self.last = first, last
+    def __init__(self, marks):
+        self.marks, self.k = marks, -1
+
+    def __call__(self, t, motor):
+        marks = self.marks
+        while self.k + 1 < len(marks) and marks[self.k + 1][0] <= t:
+            self.k += 1
+        return marks[self.k][1] if self.k >= 0 and int(motor) & (M1_GO | M2_GO) else ""
+
+
+def word_column(t, motor, marks):
+    """Per row, the words of its move (Words)."""
+    words = Words(marks)
+    return [words(ti, mi) for ti, mi in zip(t, motor)]
+
+
+class Move:
+    """Rows first..last (last: the row in which the GO bits cleared);
+    `word`: the words that commanded it (`TRIP > TURN-LEFT > LEFT`), ""
+    when the trace does not say."""
+
+    def __init__(self, first, last, word=""):
+        self.first, self.last, self.word = first, last, word
         self.breakpoints = {}     # wheel -> (row at acceleration end, row at deceleration start)
 
     def __repr__(self):
@@ -77,13 +108,15 @@ class Move:
 class Track:
     """Columns of a trace (lists, by field name) and what they add up to."""
 
-    def __init__(self, rows, fields=FIELDS, trip_gap=600.0):
+    def __init__(self, rows, fields=FIELDS, trip_gap=600.0, marks=None):
         fields = list(fields)
         missing = [f for f in ("t", "left", "right", "ref_left", "ref_right", "motor")
                    if f not in fields]
         if missing:
             raise TraceError("a trace needs the columns %s" % ", ".join(missing))
         self.col = {f: [row[i] for row in rows] for i, f in enumerate(fields)}
+        if WORD not in self.col and marks is not None:    # the move log's starts
+            self.col[WORD] = word_column(self.col["t"], self.col["motor"], marks)
         self.n = len(rows)
         self.t = self.col["t"]
         self.trip_gap = trip_gap
@@ -97,7 +130,8 @@ class Track:
 
     @classmethod
     def of(cls, trace, **kw):
-        """-> Track of a Trace kept in memory (`keep=True`)."""
+        """-> Track of a Trace kept in memory (`keep=True`); `marks`, the
+        move log's [(start s, label)], names each move's words."""
         return cls(trace.rows, trace.FIELDS, **kw)
 
     def part(self, first, last):
@@ -133,11 +167,26 @@ class Track:
             if self.going(i) and first is None:
                 first = i
             elif not self.going(i) and first is not None:
-                moves.append(Move(first, i))
+                moves.append(Move(first, i, self.word_at(first)))
                 first = None
         if first is not None:
-            moves.append(Move(first, self.n - 1))
+            moves.append(Move(first, self.n - 1, self.word_at(first)))
         return moves
+
+    def word_at(self, i):
+        words = self.col.get(WORD)
+        return (words[i] or "") if words else ""
+
+    def move_numbers(self):
+        """(trip number, move number in its trip), both from 1, per move."""
+        out = []
+        for k, (first, last) in enumerate(self.trips()):
+            n = 0
+            for move in self.moves:
+                if first <= move.first <= last:
+                    n += 1
+                    out.append((k + 1, n))
+        return out
 
     def find_breakpoints(self, move, wheel):
         """(row where acceleration ends, row where deceleration begins): the

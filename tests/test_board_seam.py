@@ -15,6 +15,7 @@ HOOKS = ("out8", "in8", "out16", "in16", "far_fetch8", "far_store8", "port_scrip
          "close",                    # safety: leaving a board safe and quiet
          "time_of_day", "set_time_of_day", "trace", "status",
          "explain",                  # observation: a cause the board knows (Host too slow)
+         "pose",                     # observation: where the robot is, if the board sees it
          "inject_fault")             # an optional capability: the simulated board's faults
 
 

@@ -287,3 +287,58 @@ def test_the_limit_line_follows_the_limit_given_and_the_square_stays_under_50(sq
     fig = plot.figure(square, ferr_limit=50)
     assert artist(fig, "ferr-limit").get_ydata()[0] == 50
     assert not [a for ax in fig.axes for a in ax.get_children() if a.get_gid() == "tripped"]
+
+
+# ------------------------------------------------- which word moved it
+def labels(fig):
+    return {t.get_gid(): t.get_text() for ax in fig.axes for t in ax.texts
+            if (t.get_gid() or "").startswith("move-")}
+
+
+@pytest.fixture(scope="module")
+def traced_square():
+    m = rcl.open()
+    m.evaluate("TRACE-ON")
+    m.include(SQUARE)
+    m.sim.run(0.5)
+    return Track.of(m.tracer, marks=m.tracer.marks)
+
+
+@needs_matplotlib
+def test_each_move_of_the_square_is_labelled_with_its_number_and_word(traced_square):
+    found = labels(plot.figure(traced_square))
+    assert found == {"move-1-%d" % n: "%d %s" % (n, "FORWARD" if n % 2 else "LEFT")
+                     for n in range(1, 9)}
+
+
+@needs_matplotlib
+def test_a_straight_move_is_labelled_at_its_middle(traced_square):
+    fig = plot.figure(traced_square)
+    label = next(t for t in fig.axes[0].texts if t.get_gid() == "move-1-1")
+    x, y = label.xy
+    assert x == pytest.approx(3.5 / 2, abs=0.1) and y == pytest.approx(0, abs=0.05)
+
+
+@pytest.fixture(scope="module")
+def two_traced_trips():
+    m = rcl.open()
+    m.evaluate(": HOP  1 FEET FORWARD 90 DEGREES LEFT ;  TRACE-ON  RERB 2 MPH HOP "
+               "3 SECONDS  2 FEET FORWARD HOP")
+    m.sim.run(0.5)
+    return Track.of(m.tracer, trip_gap=2.0, marks=m.tracer.marks)
+
+
+@needs_matplotlib
+def test_a_days_path_numbers_each_move_in_its_trip(two_traced_trips):
+    found = labels(plot.figure(two_traced_trips))
+    assert found == {"move-1-1": "1", "move-1-2": "2", "move-2-1": "1", "move-2-2": "2",
+                     "move-2-3": "3"}
+    assert [mv.word for mv in two_traced_trips.moves] == [
+        "HOP > FORWARD", "HOP > LEFT", "FORWARD", "HOP > FORWARD", "HOP > LEFT"]
+
+
+@needs_matplotlib
+def test_the_trip_in_detail_names_each_moves_words_on_its_time_axis(two_traced_trips):
+    fig = plot.figure(two_traced_trips)
+    texts = [t.get_text() for t in fig.axes[1].texts]
+    assert texts == ["1 HOP > FORWARD", "2 HOP > LEFT"]

@@ -529,6 +529,11 @@ class SimBoard(Board):
     def wait_started(self):
         self.handler_cost = None          # trust only a tick timed in this wait
 
+    def pose(self):
+        self.sync()
+        r = self.drive.robot
+        return (r.x, r.y, r.heading)
+
     def trace(self, file=None):
         from rcl.sim.observe import Trace     # observe builds on this module
         return Trace(self, file, keep=True)

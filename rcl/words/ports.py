@@ -9,12 +9,16 @@ interrupt, and a read must see the clock of its own moment.
 from rcl.board import FORTH_CS
 from rcl.forth.memory import MASK
 from rcl.forth.primitives import prim
+from rcl.robot import AUX_PORT, MOTOR_PORT
 
 
 @prim("PC!", "( c port -- ) 8-bit OUT", kind="call")
 def pc_store(m):
     port = m.s.pop()
-    m.board.out8(port, m.s.pop() & 0xFF)
+    byte = m.s.pop() & 0xFF
+    m.board.out8(port, byte)
+    if port == MOTOR_PORT or port == AUX_PORT:   # a move may start or end (moves.py)
+        m.moves.latched(m, port, byte)
 
 
 @prim("PC@", "( port -- c ) 8-bit IN, zero-extended", kind="call")

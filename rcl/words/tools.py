@@ -1,7 +1,10 @@
 """Programming tools: .S DUMP WORDS SEE FORGET EMPTY and friends.
 
 SEE decompiles threaded code back to Forth: branches become IF ELSE THEN,
-BEGIN UNTIL / AGAIN / WHILE REPEAT, DO LOOP, and literals their numbers.
+BEGIN UNTIL / AGAIN / WHILE REPEAT, DO LOOP, and literals their numbers,
+so that a colon word's text, compiled again (under any name), lays down
+the same cells (the table above `number_text`; tests/test_see_roundtrip.py
+checks it over every colon word of the system).
 """
 from rcl.forth import inner
 from rcl.forth.compiler import decode
@@ -79,12 +82,28 @@ def empty(m):
     m.dictionary.forget_to(m.memory.fetch(m.a_fence))
 
 
-@prim("SEE", "( -- ) decompile the next word")
+@prim("SEE", "( -- ) decompile the next word: a colon word as Forth text that "
+      "compiles again to the same code")
 def see(m):
     m.type(decompile(m, tick(m, parse_word(m))) + "\n")
 
 
 # ------------------------------------------------------------- decompiler
+# SEE's text for a colon definition compiles again to the same cells
+# (docs/words.md, SEE): each cell is written as the source that lays it
+# down, in the base in use, with RCL literals on (the system's default):
+#
+#     LIT n            [ n ] LITERAL   (['] NAME when n is NAME's xt,
+#                                      [CHAR] c when n is a printable character)
+#     (RLIT) n         n               (RWLIT) n  n beyond a signed cell
+#     (RDLIT) d dpl    d with dpl digits after the point: 3.50
+#     a call           NAME, POSTPONE NAME (immediate), RECURSE (itself),
+#                      [ xt COMPILE, ] (a name that finds another word)
+#     COMPILE x        COMPILE x   (COMPILE [COMPILE] x for an immediate x)
+#     strings          ." text"  S" text"  S\" te\"xt"  C" text"  ABORT" text"
+QUOTES = {'(.")': '."', '(S")': 'S"', '(C")': 'C"', '(ABORT")': 'ABORT"', '(")': '"'}
+
+
 def number_text(m, value, dpl=-1):
     if dpl < 0:
         return in_base(m, signed(value))
@@ -92,6 +111,14 @@ def number_text(m, value, dpl=-1):
     digits = in_base(m, abs(d)).rjust(dpl + 1, "0")
     text = digits[:len(digits) - dpl] + "." + digits[len(digits) - dpl:]
     return "-" + text if d < 0 else text
+
+
+def unshadowed(m, text):
+    """A number's text that no word of that name takes over (F83 has
+    constants named 0 1 2 ...): a leading zero after the sign if needed."""
+    if m.dictionary.find(text) is None:
+        return text
+    return "-0" + text[1:] if text.startswith("-") else "0" + text
 
 
 def decompile(m, xt):
@@ -107,7 +134,7 @@ def decompile(m, xt):
     fetch = m.memory.fetch
     imm = " IMMEDIATE" if d.flags((xt - 2) & MASK) & IMMEDIATE else ""
     if cf == inner.DOCOL:
-        return ": %s %s ;%s" % (name, body_text(m, body), imm)
+        return ": %s %s ;%s" % (name, body_text(m, body, xt), imm)
     kind = {"(DOCON)": "%d CONSTANT %s", "(DOVALUE)": "%d VALUE %s",
             "(DOVAR)": "CREATE %s ( data at %04X )"}.get(p.name)
     if p.name in ("(DOCON)", "(DOVALUE)"):
@@ -121,24 +148,28 @@ def decompile(m, xt):
     return "CODE %s %s (a Python primitive)%s" % (name, p.effect, imm)
 
 
-def body_text(m, start):
-    """Structured Forth for the threaded code at start, up to its final EXIT."""
-    d = m.dictionary
-    out, thens, begins, whiles = [], {}, set(), set()
+def decoded(m, start):
+    """The instructions from start up to the definition's final EXIT (the
+    first EXIT no forward branch jumps past)."""
     code, ip, last_fwd = [], start, start
-    while len(code) < 2000:            # first pass: decode up to the last EXIT
+    while len(code) < 2000:
         ins = decode(m, ip)
         code.append(ins)
-        if ins.target is not None:
-            if ins.target > ins.addr:
-                last_fwd = max(last_fwd, ins.target)
-            elif ins.op in ("BRANCH", "?BRANCH"):
-                begins.add(ins.target)
-        if ins.op in ("EXIT", "(DOES>)") and ins.addr >= last_fwd:
-            if ins.op == "EXIT":
-                break
+        if ins.target is not None and ins.target > ins.addr:
+            last_fwd = max(last_fwd, ins.target)
+        if ins.op == "EXIT" and ins.addr >= last_fwd:
+            break
         ip = ins.next
-    after = {ins.addr: ins for ins in code}
+    return code
+
+
+def body_text(m, start, self_xt=None):
+    """Structured Forth for the threaded code at start, up to its final EXIT."""
+    out, thens, repeats, begins, whiles = [], {}, {}, set(), set()
+    code = decoded(m, start)
+    for ins in code:
+        if ins.op in ("BRANCH", "?BRANCH") and ins.target <= ins.addr:
+            begins.add(ins.target)
     for ins in code:                   # WHILE: ?BRANCH forward past a backward BRANCH
         if ins.op == "?BRANCH" and ins.target > ins.addr:
             prev = [i for i in code if i.next == ins.target]
@@ -153,15 +184,21 @@ def body_text(m, start):
         if op == "?BRANCH":
             if ins.target <= ins.addr:
                 out.append("UNTIL")
-            elif ins.addr in whiles:
+            elif ins.addr in whiles:           # its THEN is REPEAT's, or a THEN after
                 out.append("WHILE")
+                thens[ins.target] = thens.get(ins.target, 0) + 1
+                repeats[ins.target] = repeats.get(ins.target, 0) + 1
             else:
                 out.append("IF")
                 thens[ins.target] = thens.get(ins.target, 0) + 1
         elif op == "BRANCH":
             if ins.target <= ins.addr:
-                out.append("REPEAT" if any(w for w in whiles
-                                           if after[w].target == ins.next) else "AGAIN")
+                if repeats.get(ins.next):       # REPEAT is AGAIN and a WHILE's THEN
+                    thens[ins.next] -= 1
+                    repeats[ins.next] -= 1
+                    out.append("REPEAT")
+                else:
+                    out.append("AGAIN")
             elif thens.get(ins.next):
                 thens[ins.next] -= 1
                 out.append("ELSE")
@@ -179,22 +216,53 @@ def body_text(m, start):
         elif op == "literal":
             out.append(literal_text(m, ins))
         else:
-            out.append(d.name_of(ins.xt) or "[%04X]" % ins.xt)
+            out.append(call_text(m, ins.xt, self_xt))
     if code and code[-1].next in thens:
         out.extend(["THEN"] * thens.pop(code[-1].next))
     return " ".join(out)
 
 
+def call_text(m, xt, self_xt=None):
+    """The source that compiles a call of xt."""
+    d = m.dictionary
+    if xt == self_xt:
+        return "RECURSE"
+    name = d.name_of(xt)
+    hit = d.find(name) if name else None
+    if hit is None or hit[0] != xt:
+        return "[ %s COMPILE, ]" % number_text(m, xt)
+    return "POSTPONE " + name if hit[1] else name
+
+
 def literal_text(m, ins):
     name, args = ins.prim.name, ins.args
-    if name in ("LIT", "(RLIT)", "(RWLIT)"):
-        return number_text(m, args[0])
+    if name == "LIT":
+        named = m.dictionary.name_of(args[0])
+        if named and m.dictionary.find(named) == (args[0], False):
+            return "['] " + named
+        if 33 <= args[0] <= 126:               # RCL's numbers are (RLIT): LIT is [CHAR]'s
+            return "[CHAR] " + chr(args[0])
+        return "[ %s ] LITERAL" % number_text(m, args[0])
+    if name == "(RLIT)":
+        return unshadowed(m, number_text(m, args[0]))
+    if name == "(RWLIT)":                       # typed beyond a signed cell
+        return in_base(m, args[0] if args[0] & 0x8000 else args[0] + 0x10000)
     if name == "(RDLIT)":
         return number_text(m, args[0] | (args[1] << 16), signed(args[2]))
     if name == "COMPILE":
-        return "COMPILE " + (m.dictionary.name_of(args[0]) or "?")
-    if len(args) == 2 and name.startswith("("):
-        text = m.memory.text(args[0], args[1])
-        return '%s %s"' % ({'(.")': '."', '(S")': 'S"', '(C")': 'C"',
-                             '(ABORT")': 'ABORT"', '(")': '"'}.get(name, name), text)
+        target = call_text(m, args[0])
+        if target.startswith("POSTPONE "):
+            return "COMPILE [COMPILE] " + target[9:]
+        return "COMPILE " + target
+    if len(args) == 2 and name in QUOTES:
+        return string_text(name, m.memory.text(args[0], args[1]))
     return "%s %s" % (name, " ".join(str(a) for a in args))
+
+
+def string_text(name, text):
+    plain = '"' not in text and "\\" not in text and all(" " <= c <= "~" for c in text)
+    if plain or name != '(S")':
+        return '%s %s"' % (QUOTES[name], text)
+    escaped = "".join("\\" + c if c in '"\\' else c if " " <= c <= "~"
+                      else "\\x%02X" % ord(c) for c in text)
+    return 'S\\" %s"' % escaped

@@ -9,6 +9,11 @@ it keeps, so the same words serve any board that keeps a trace.
     PLOT square.png          draw what the trace holds so far (.png .svg .pdf)
     SAVE-TRACE square.csv    the rows as CSV, as `rcl --trace` writes them
     TRACE-OFF                stop recording (what was kept stays for PLOT)
+
+While a trace records, the move log (rcl/words/moves.py) keeps each
+move's start and words beside it (`marks`): SAVE-TRACE and `rcl --trace`
+add them as the CSV's last column, `word` (on the rows of each move, the
+chain that commanded it), and PLOT labels the moves with them.
 """
 import csv
 
@@ -33,6 +38,7 @@ def start_trace(m, file=None):
     rec = m.board.trace(file)
     if rec is None:
         raise ForthError(-21, "This board keeps no trace")
+    rec.marks = m.moves.marks = []        # each move's (start, words) from now
     m.tracer = rec
     return rec
 
@@ -41,6 +47,21 @@ def stop_trace(m):
     rec = tracer(m)
     if rec is not None:
         rec.stop()
+        m.moves.marks = None
+
+
+def marks_of(rec):
+    return getattr(rec, "marks", None) or []
+
+
+def rows_with_words(rec):
+    """The recorder's fields and rows with the `word` column added."""
+    from rcl.track import WORD, word_column
+    fields = list(rec.FIELDS)
+    rows = rec.rows
+    words = word_column([r[0] for r in rows], [r[fields.index("motor")] for r in rows],
+                        marks_of(rec))
+    return fields + [WORD], [tuple(r) + (w,) for r, w in zip(rows, words)]
 
 
 def kept(m):
@@ -63,7 +84,7 @@ def plot_to(m, name, title=None):
     from rcl.track import Track
     rec = kept(m)
     try:
-        plot.draw(Track.of(rec), name, title, ferr_limit=ferr_limit(m))
+        plot.draw(Track.of(rec, marks=marks_of(rec)), name, title, ferr_limit=ferr_limit(m))
     except plot.PlotError as e:
         raise ForthError(-37, str(e)) from None
 
@@ -89,9 +110,10 @@ def save_trace(m):
     name, rec = parse_word(m), kept(m)
 
     def write(f):
+        fields, rows = rows_with_words(rec)
         out = csv.writer(f)
-        out.writerow(rec.FIELDS)
-        out.writerows(rec.rows)
+        out.writerow(fields)
+        out.writerows(rows)
     try:
         write_atomically(name, write, binary=False)
     except OSError as e:
