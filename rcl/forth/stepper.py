@@ -68,7 +68,6 @@ class Stepper:
         self.frames = []          # [(xt, base)], outermost first
         self.ip = SENTINEL
         self.user_from = m.memory.fetch(m.a_fence)   # STEP goes into words above it
-        self.last_pose = board_view(m)[1]
         self.label = None
 
     @property
@@ -236,7 +235,7 @@ class Stepper:
     def view(self, ran, before=None):
         m = self.m
         time, pose = board_view(m)
-        moved = pose is not None and before is not None and pose != before
+        moved = pose is not None and before is not None and moved_by(before, pose)
         step = Step(word=None, chain=[m.dictionary.name_of(xt) or "at %d" % xt
                                       for xt, _ in self.frames],
                     stack=list(m.stack), ran=ran, moved=moved, time=time, pose=pose,
@@ -248,6 +247,14 @@ class Stepper:
 
 
 # ------------------------------------------------------------------ helpers
+def moved_by(before, after):
+    """Did the robot move: a quarter inch, or half a degree? (Less is a
+    wheel rolling to rest after the last move, not this step's doing.)"""
+    (x0, y0, h0), (x1, y1, h1) = before, after
+    turned = abs((h1 - h0 + 180) % 360 - 180)
+    return (x1 - x0) ** 2 + (y1 - y0) ** 2 >= 0.25 ** 2 or turned >= 0.5
+
+
 def break_text(m):
     """The text BREAK" compiled, off the data stack (addr u)."""
     n, a = m.s.pop(), m.s.pop()
