@@ -178,6 +178,26 @@ def test_a_break_inside_a_do_loop_steps_the_rest_of_the_loop(forth):
     assert "FOO > +  ( 106 )" not in out and "done  ( 106 )" in out
 
 
+def test_a_break_in_a_word_stepped_over_opens_a_view_of_its_own(forth):
+    forth.evaluate(": IN  1 BREAK: 2 ; : OUT  IN + ;")
+    keys(forth, "occ")
+    out = forth.evaluate("DBG OUT")
+    assert out.split("\n")[2:] == ["  (typed)  OUT > IN  ( )", " BREAK:", "  done  ( 1 2 )",
+                                    "  (typed)  OUT > +  ( 1 2 )", "  done  ( 3 )"]
+    assert forth.stack == [3] and forth.keys == [ord("c")]
+
+
+def test_continue_stops_at_each_pass_of_a_break_in_a_loop(forth):
+    forth.evaluate(': LP  3 0 DO I BREAK" in loop" DROP LOOP ; : CALLS  LP 7 ;')
+    keys(forth, "ccc")
+    out = forth.evaluate("CALLS")
+    assert out.count(' BREAK" in loop"') == 3
+    assert [line for line in out.split("\n") if "LP >" in line] == [
+        "  (typed)  LP > DROP  ( 0 )", "  (typed)  LP > DROP  ( 1 )",
+        "  (typed)  LP > DROP  ( 2 )"]
+    assert forth.stack == [7] and forth.rs == []
+
+
 def test_breaks_off_runs_through_without_recompiling(forth):
     forth.evaluate(": FOO  1 BREAK: 2 + ;")
     forth.evaluate("BREAKS OFF")

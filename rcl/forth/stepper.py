@@ -189,7 +189,7 @@ class Stepper:
         if m.clock >= m.deadline:
             m.housekeep()
         m.clock += m.cost[cf]
-        self.label = break_text(m) if p.name == '(BREAK")' else "BREAK:"
+        self.label = break_label(break_text(m) if p.name == '(BREAK")' else None)
 
     def leave(self):
         """Frames whose EXIT (or R> DROP) took the return stack below them."""
@@ -253,6 +253,11 @@ def moved_by(before, after):
     (x0, y0, h0), (x1, y1, h1) = before, after
     turned = abs((h1 - h0 + 180) % 360 - 180)
     return (x1 - x0) ** 2 + (y1 - y0) ** 2 >= 0.25 ** 2 or turned >= 0.5
+
+
+def break_label(text=None):
+    """How the view names a BREAK: (or a BREAK" text")."""
+    return "BREAK:" if text is None else 'BREAK" %s"' % text
 
 
 def break_text(m):

@@ -87,27 +87,29 @@ def drive(m, s, step):
     stepped word prints comes on a line of its own."""
     shown = Column(m)
     try:
-        shown.type(render(step))
+        shown.show(render(step))
         while not s.done:
             cmd = command(m)
             if cmd == "quit":
                 raise ForthError(-28, "Stopped")
             shown.type("\n")
             step = s.advance(cmd)
-            text = render(step)
-            shown.type(text[1:] if shown.at_start else text)
+            shown.show(render(step))
     finally:
         shown.close()
 
 
 class Column:
     """Whether the machine's output stands at the start of a line, seen
-    by wrapping m.type while the view runs."""
+    by wrapping m.type while the view runs (a view opened inside another,
+    by a BREAK: in a word stepped over, wraps the outer one's)."""
 
     def __init__(self, m):
         self.m, self.at_start = m, False
         self.type_through = m.type
-        self.outer = m.__dict__.get("type")   # a view already open (a BREAK: in it)
+        self.outer = m.__dict__.get("type")
+        if self.outer is not None:
+            self.at_start = self.outer.__self__.at_start
         m.type = self.type
 
     def type(self, text):
@@ -115,10 +117,16 @@ class Column:
             self.at_start = text.endswith("\n")
             self.type_through(text)
 
+    def show(self, lines):
+        """Lines that each start with a new line: the first needs none at
+        the start of a line."""
+        self.type(lines[1:] if self.at_start else lines)
+
     def close(self):
         if self.outer is None:
             del self.m.type                # the machine's own again
         else:
+            self.outer.__self__.at_start = self.at_start
             self.m.type = self.outer
 
 
@@ -157,13 +165,13 @@ def stop_here(m, ret, label):
 @prim("(BREAK)", "( -- ) BREAK: compiled: the stepping view, if BREAKS is on",
       kind="runtime", cost=0)
 def paren_break(m, xt, ret):
-    return stop_here(m, ret, "BREAK:")
+    return stop_here(m, ret, stepper.break_label())
 
 
 @prim("(BREAK\")", "( addr u -- ) BREAK\" compiled, after its text: the "
       "stepping view, named, if BREAKS is on", kind="runtime")
 def paren_break_quote(m, xt, ret):
-    return stop_here(m, ret, 'BREAK" %s"' % stepper.break_text(m))
+    return stop_here(m, ret, stepper.break_label(stepper.break_text(m)))
 
 
 def compile_only(m, name):
