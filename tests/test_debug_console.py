@@ -131,6 +131,21 @@ def test_ctrl_c_while_the_view_waits_interrupts_and_the_prompt_goes_on(tmp_path)
     child.close(force=True)
 
 
+def test_ctrl_c_in_a_move_stepped_over_interrupts_it_and_the_next_move_runs(tmp_path):
+    child = spawn(tmp_path, term="xterm")
+    child.sendline(": LONG  RERB 1 MPH 10 MILES FORWARD ;")
+    child.expect_exact(" ok")
+    child.sendline("DBG LONG")
+    child.expect_exact("LONG > RERB")
+    child.send("c")
+    child.expect_exact("moving")             # the status line: the move is under way
+    child.sendintr()
+    child.expect_exact(" Interrupted ")
+    child.sendline("RERB 1 FEET FORWARD")
+    child.expect_exact(" ok")
+    child.close(force=True)
+
+
 @pytest.mark.parametrize("term", ["xterm", "dumb"])
 def test_break_stops_at_the_prompt_and_breaks_off_runs_through(tmp_path, term):
     child = spawn(tmp_path, term=term)
