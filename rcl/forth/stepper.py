@@ -141,10 +141,10 @@ class Stepper:
         """Run cell by cell until only `depth` frames are left, or a BREAK:
         in a stepped definition is reached (then stop after it)."""
         while len(self.frames) > depth:
-            if self.at_break():
-                self.run_cell()
-                return
+            stop = self.at_break()
             self.run_cell()
+            if stop:
+                return
 
     def run_silent(self):
         """Run the literals and control operations up to the next word."""
