@@ -221,6 +221,10 @@ def test_a_break_costs_no_virtual_time(forth):
     assert forth.clock == a
 
 
+def test_breaks_runtime_run_from_the_prompt_steps_nothing(forth):
+    assert forth.evaluate("1 2 (BREAK)") == "" and forth.stack == [1, 2]
+
+
 def test_break_outside_a_definition_is_compile_only(forth):
     with pytest.raises(rcl.ForthError) as e:
         forth.evaluate("BREAK:")

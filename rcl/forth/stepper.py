@@ -87,9 +87,12 @@ class Stepper:
     def resume(self, ip, label=None):
         """Step the definition running at ip, from ip on (a BREAK: in it
         was reached): its frame starts where its return address lies,
-        under the DO loops open at ip (frame_depth)."""
+        under the DO loops open at ip (frame_depth). None if no colon
+        definition holds ip."""
         m = self.m
         xt = self.containing(ip)
+        if xt is None or self.code_field(xt) != N["(DOCOL)"]:
+            return None                    # (BREAK) run from the prompt: no code to step
         base = len(m.rs) - frame_depth(m, xt, ip)
         self.frames.append((xt, max(base, 0)))
         self.ip = ip
@@ -229,8 +232,9 @@ class Stepper:
         return self.m.dictionary.name_of(xt) or "at %d" % xt
 
     def containing(self, ip):
+        """The word whose code holds the cell before ip, or None."""
         from rcl.forth import wordloc
-        return wordloc.containing(self.m, (ip - 2) & MASK) or ip
+        return None if ip == SENTINEL else wordloc.containing(self.m, (ip - 2) & MASK)
 
     def view(self, ran, before=None):
         m = self.m

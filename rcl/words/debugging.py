@@ -158,7 +158,10 @@ def stop_here(m, ret, label):
     if m.masked or not breaks_on(m):       # never inside the tick handler
         return ret
     s = stepper.Stepper(m)
-    drive(m, s, s.resume(ret, label))
+    step = s.resume(ret, label)
+    if step is None:
+        return ret
+    drive(m, s, step)
     return s.ip
 
 
