@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
 from rcl.board import NullBoard
+from rcl.errors import ForthError
 from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, SENTINEL, decode_args
 from rcl.forth.memory import MASK, signed
 from rcl.forth.primitives import REGISTRY
@@ -266,6 +267,8 @@ def break_label(text=None):
 
 def break_text(m):
     """The text BREAK" compiled, off the data stack (addr u)."""
+    if len(m.s) < 2:                       # (BREAK") run by hand
+        raise ForthError(-4)
     n, a = m.s.pop(), m.s.pop()
     return m.memory.text(a, n)
 
