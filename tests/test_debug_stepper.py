@@ -304,3 +304,26 @@ def test_q_inside_a_move_stops_the_motors():
     assert e.value.message == "Stopped"
     assert motors == [MOTOR_BITS]            # both wheels on at the view
     assert m.sim.relays[0] & MOTOR_BITS == 0
+
+
+def test_on_a_board_over_a_link_the_view_never_waits_while_a_move_runs():
+    # a real board's wheels turn in real time: stepped into FORWARD, the
+    # view goes on by itself from MOVING ON to the move's end
+    from rcl.words.debugging import real_move_running
+    m = rcl.open(port="rclsim://?rate=4")
+    try:
+        m.evaluate(": M  RERB 1 FEET FORWARD ;")
+        shown, asked = [], []
+        m.write = shown.append
+
+        def key():
+            asked.append(real_move_running(m))
+            return ord("i") if len(asked) in (3, 4) else ord("o")   # into FORWARD, (MOVE)
+        m.read_key = key
+        m.evaluate("DBG M")
+    finally:
+        m.board.close()
+    out = "".join(shown)
+    assert "M > FORWARD > (MOVE) > WAIT-MOVE" in out and "M > FORWARD > (MOVE) > MOVED" in out
+    assert asked and not any(asked)
+    assert len(asked) < len(steps(out))        # the steps of the move took no key

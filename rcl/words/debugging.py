@@ -22,6 +22,7 @@ its compiled caller passes on (the call protocol of inner.py).
 """
 import os
 
+from rcl.board import NullBoard
 from rcl.errors import ForthError
 from rcl.forth import stepper, wordloc
 from rcl.forth.inner import SENTINEL
@@ -89,7 +90,7 @@ def drive(m, s, step):
     try:
         shown.show(render(step))
         while not s.done:
-            cmd = command(m)
+            cmd = stepper.OVER if real_move_running(m) else command(m)
             if cmd == "quit":
                 raise ForthError(-28, "Stopped")
             shown.type("\n")
@@ -128,6 +129,20 @@ class Column:
         else:
             self.outer.__self__.at_start = self.at_start
             self.m.type = self.outer
+
+
+def real_move_running(m):
+    """A move or arm move under way on a board that is not simulated: its
+    wheels turn in real time, and the control loop runs only while Forth
+    does, so the view steps on by itself instead of waiting for a key (a
+    simulated robot's time stands still while the view waits)."""
+    if hasattr(m, "sim") or isinstance(m.board, NullBoard):
+        return False
+    for name in ("MOVING", "ARM-BITS"):
+        hit = m.dictionary.find(name)
+        if hit is not None and m.memory.fetch((hit[0] + 2) & MASK):
+            return True
+    return False
 
 
 def breaks_on(m):
