@@ -5,10 +5,11 @@ The stepping itself is rcl/forth/stepper.py (no terminal in it); here a
 key chooses its command and each Step is drawn as one line:
 
     DBG TRIP   Enter step  I into  O over  F finish  C continue  Q stop
-      listing5.fs:20  TRIP > WARNING  ( )  00:00:00  x 0.0 y 0.0 in  heading 0.0
+      listing5.fs:19  TRIP > WARNING  ( )  00:00:00  x 0.0 y 0.0 in  heading 0.0
       ...
-      BACKWARD ended at x -36.0 y 0.0 in  heading 0.0  00:00:17
-      listing5.fs:21  TRIP > TURN-AROUND  ( )  00:00:17  x -36.0 y 0.0 in  heading 0.0
+      listing5.fs:20  TRIP > BACKWARD  ( )  00:00:06  x 0.0 y 0.0 in  heading 0.0
+      BACKWARD ended at 00:00:08  x -36.0 y 0.0 in  heading 0.1
+      listing5.fs:20  TRIP > TURN-AROUND  ( )  00:00:08  x -36.0 y 0.0 in  heading 0.1
 
 Keys come through KEY's path (io.next_key): at the prompt one key, no
 Enter needed; from a pipe the next character (a new line is Enter). So
@@ -39,7 +40,9 @@ HELP = "Enter step  I into  O over  F finish  C continue  Q stop"
 
 # ---------------------------------------------------------------- the view
 def render(step):
-    """The lines (each after a new line) the view shows for a Step."""
+    """The lines (each after a new line) the view shows for a Step: its
+    BREAK: label, where the last step's move ended, then the word about
+    to run (or done) with the stack and, on a board, time and pose."""
     lines = []
     if step.label:
         lines.append(" %s" % step.label)
