@@ -21,8 +21,8 @@ move (FORWARD waits for the control loop) is one step. Literals and
 control operations (branches, DO and LOOP, EXIT) run between the steps:
 a step stops before each word called.
 
-    TRIP's body:  | WARNING | RERB | (RLIT) 20 | IPS | (RDLIT) 3 0 1 | FEET | ...
-                    ^ step    ^ step  (runs)     ^ step  (runs)         ^ step
+    TRIP's body:  | WARNING | RERB | (RLIT) 20 | IPS | (RLIT) 3 | FEET | BACKWARD | ...
+                    ^ step    ^ step  (runs)     ^ step  (runs)   ^ step  ^ step
 
 Each frame is a definition being stepped and the return-stack depth at
 its entry, as run_from's `base`: the frame is over at the EXIT that
