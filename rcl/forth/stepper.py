@@ -251,7 +251,7 @@ class Stepper:
         return step
 
 
-# ------------------------------------------------------------------ helpers
+# -------------------------------------------------- breaks, frames, the board
 def moved_by(before, after):
     """Did the robot move: a quarter inch, or half a degree? (Less is a
     wheel rolling to rest after the last move, not this step's doing.)"""
