@@ -52,7 +52,7 @@ class Entry:
 def primitive_entries():
     entries = {}
     for p in REGISTRY[1:]:
-        if p.hidden or p.kind == "runtime":
+        if p.hidden:                     # as at boot: a runtime with a header is listed
             continue
         effect, text = split_effect(p.effect)
         where = "%s word set" % p.fn.__module__.rsplit(".", 1)[-1] if p.fn else \

@@ -118,7 +118,7 @@ class Forth(Inner, Outer):
             x = d.create(var, inner.N["(DOCON)"])
             d.comma(getattr(self, attr_name(var)))
         for p in REGISTRY[1:]:
-            if p.hidden or p.kind == "runtime":
+            if p.hidden:            # a runtime gets a header only if it asks (BREAK:'s)
                 continue
             wid = self.root_wid if p.wordlist == "ROOT" else self.forth_wid
             x = d.create(p.name, p.number, wid=wid)
@@ -134,6 +134,7 @@ class Forth(Inner, Outer):
         mem.store(self.a_fence, d.here)
         self.xt_of["ON-ABORT"] = d.find("ON-ABORT")[0]
         self.xt_of["SAFE-STATE"] = d.find("SAFE-STATE")[0]
+        self.xt_of["BREAKS"] = d.find("BREAKS")[0]
         self.invalidate()
         self.clock = 0                     # power-on: a copied image starts at 0 too
         self.reschedule()
@@ -231,6 +232,8 @@ class Forth(Inner, Outer):
         Ctrl-C while it waits interrupts at once."""
         if self.masked:
             raise ForthError(-21, "Waits for input")
+        if self.break_pending:             # a Ctrl-C just before the wait: taken now
+            self.housekeep()
         self.in_input = True
         try:
             return read()

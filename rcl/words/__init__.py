@@ -10,3 +10,4 @@ from rcl.words import tester  # noqa: F401  (T{ -> }T)
 from rcl.words import help  # noqa: F401
 from rcl.words import faults  # noqa: F401  (the simulated board's faults, from Forth)
 from rcl.words import moves  # noqa: F401  (the move log, .MOVES)
+from rcl.words import debugging  # noqa: F401  (DBG, BREAK:, ~~)
