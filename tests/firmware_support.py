@@ -266,6 +266,16 @@ class RawLink:
         self.send(data)
         return data
 
+    def hello(self):
+        """HELLO until IDENTIFY (a host gives a board that is starting
+        3 s); -> the IDENTIFY."""
+        for _ in range(3):
+            self.frame(0, "HELLO", version=self.P.VERSION)
+            ident = self.receive("IDENTIFY", seconds=1.0)
+            if ident is not None:
+                return ident
+        pytest.fail("no IDENTIFY")
+
     def receive(self, want=None, seconds=2.0):
         """Frames until one named `want` (or any, if None) comes; -> it, or
         None after `seconds` (a bound for a broken board, not a measure)."""

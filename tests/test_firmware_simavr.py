@@ -26,7 +26,7 @@ import serial
 import rcl
 from rcl.hw.protocol import LinkError
 from firmware_support import (BUILD, FIRST_COMMAND, INSTALL, LEGS, PER_MOVE, ROOT, BoardProcess,
-                              FaultRelay, build, connect, counts, leg_after_reconnect, simulated,
+                              FaultRelay, RawLink, build, connect, counts, leg_after_reconnect, simulated,
                               within)
 
 SIMAVR_BUILD = ROOT / "firmware" / "simavr" / "build"
@@ -443,3 +443,44 @@ def test_a_free_running_board_leaves_a_late_host_behind(uno, host):
     except rcl.ForthError:                      # a Following error, often: the move ran away
         pass
     assert m.board.skipped > 0 and sim.figures()["holds"] == 0
+
+
+def run_ticks(link, seq, n):
+    """Point INT 1Ch into the Forth segment and answer n TICKs at once,
+    as a host that keeps up; -> the tick numbers the board sent."""
+    for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):          # 1000:2A10
+        assert link.answer(seq + off, "FAR_STORE", seg=0, off=0x70 + off, value=value)
+    seq += 4
+    seen, end = [], time.monotonic() + 60               # (a bound for a broken board)
+    while len(seen) < n and time.monotonic() < end:
+        f = link.receive("TICK", seconds=0.5)
+        if f is not None:
+            seen.append(f["tick"])
+            link.frame(seq, "TICK_DONE", tick=f["tick"], final=1, us=0, writes=[])
+            seq = seq % 255 + 1
+    return seen
+
+
+def test_the_harness_sees_a_new_sessions_ticks_as_new_and_paces_it_as_the_first(uno):
+    # HELLO puts the board at power-on, its ticks from 1 again. The
+    # harness waits for a host late with a tick's answer by the tick
+    # numbers it watches on the wire: had it kept the last session's, a
+    # new session's lower numbers read as repeats, the host as far
+    # behind, and board time stood still or ran on without it at random
+    # (a new session's first move ended 2-3 counts further on).
+    sim = uno()
+    link = RawLink(sim.path)
+    try:
+        before = sim.figures()
+        for n in (60, 20):
+            link.hello()
+            seen = run_ticks(link, 1, n)
+            assert sim.wait_for(lambda: sim.figures()["answered_tick"] == seen[-1])
+            figures = sim.figures()
+            assert seen == list(range(1, n + 1))
+            assert figures["tick_frames"] - before["tick_frames"] == n
+            assert (figures["last_tick"], figures["answered_tick"]) == (n, n)
+            before = figures
+        assert figures["sessions"] == 2
+    finally:
+        link.close()
