@@ -70,6 +70,13 @@ def test_the_speed_loop_runs_the_same_across_the_encoders_2_31_and_2_32_wraps():
     assert core_check("edge_wrap")["bad"] == 0
 
 
+def test_the_crc_table_is_the_documents_crc_bit_by_bit():
+    # every entry after 256 CRC states, and CRC-16/CCITT-FALSE's check
+    # value for "123456789" (the table is written out in src/crc16.c)
+    figures = core_check("crc_table")
+    assert figures["pairs"] == 65_536 and figures["bad"] == 0
+
+
 # ---------------------------------------------------- the native build
 @pytest.fixture
 def board():
