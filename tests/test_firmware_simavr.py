@@ -25,62 +25,10 @@ import serial
 
 import rcl
 from rcl.hw.protocol import LinkError
-from firmware_support import (BUILD, FIRST_COMMAND, INSTALL, LEGS, PER_MOVE, ROOT, BoardProcess,
-                              FaultRelay, RawLink, build, connect, counts, leg_after_reconnect, simulated,
-                              within)
-
-SIMAVR_BUILD = ROOT / "firmware" / "simavr" / "build"
-HARNESS = SIMAVR_BUILD / "rcl-simavr"
-PINS_TEST = SIMAVR_BUILD / "pins-test.elf"
-
-
-def harness_built():
-    """Build rcl-simavr and its test program (skip, saying what to install,
-    without the toolchain or simavr's headers)."""
-    if not os.path.exists("/usr/include/simavr/sim_avr.h"):
-        pytest.skip("simavr's headers are missing (libsimavr-dev): " + INSTALL)
-    build("simavr")
-    return HARNESS
-
-
-class Simavr(BoardProcess):
-    """rcl-simavr running an image: a board process whose figures (true
-    edges, TICK period, bytes each way) come from its stats file."""
-
-    def __init__(self, tmp_path, elf, *options):
-        self.stats_path = tmp_path / ("simavr-%d.json" % id(self))
-        super().__init__([harness_built(), "--quiet", "--stats", self.stats_path,
-                          *options, elf])
-
-    def figures(self):
-        """The harness's figures now (SIGUSR1 asks for a fresh stats file)."""
-        seen = self._report()
-        os.kill(self.proc.pid, signal.SIGUSR1)
-        self.wait_for(lambda: self._report() > seen)
-        return json.loads(self.stats_path.read_text())
-
-    def _report(self):
-        try:
-            return json.loads(self.stats_path.read_text())["report"]
-        except (OSError, ValueError):
-            return 0
-
-    def stop(self):
-        """Stop it; -> its last figures (written as it exits)."""
-        self.close()
-        return json.loads(self.stats_path.read_text())
-
-
-@pytest.fixture
-def simavr(tmp_path):
-    started = []
-
-    def start(elf, *options):
-        started.append(Simavr(tmp_path, elf, *options).__enter__())
-        return started[-1]
-    yield start
-    for board in started:
-        board.close()
+from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, PINS_TEST, ROOT, FaultRelay, RawLink,
+                              connect, counts, harness_built, leg_after_reconnect, simulated,
+                              uno_image, within)
+from firmware_support import simavr  # noqa: F401 (a fixture)
 
 
 # ------------------------------------------- the harness, on its own program
@@ -217,11 +165,6 @@ def test_at_half_rate_the_board_runs_half_as_fast_as_the_wall_clock(simavr):
 # (test_firmware_native's helpers: firmware/simavr/NOTES-for-firmware.md
 # asks for them in firmware_support.)
 EDGES_PER_COUNT = 4
-
-
-def uno_image(version=1):
-    build("uno", **({"VERSION": version} if version != 1 else {}))
-    return BUILD / ("uno%s.elf" % ("" if version == 1 else "-v%d" % version))
 
 
 @pytest.fixture
