@@ -298,7 +298,13 @@ def test_sessions_one_after_another_on_one_running_board_drive_the_first_command
     first = session(b.where, image)
     assert all(abs(c - 29) <= 2 for c in first)        # 1 inch: 28.4 counts, and the run-out
     slack = 2 if kind in ("native", "uno") else 1
-    later = [session(b.where, image) for _ in range(SESSIONS - 1)]
+    later = []
+    for n in range(2, SESSIONS + 1):
+        try:
+            later.append(session(b.where, image))
+        except AssertionError as e:       # which session, and what came before
+            raise AssertionError("session %d of %d: %s (first %s, then %s)"
+                                 % (n, SESSIONS, e, first, later)) from None
     print("\n%s: first %s, then %s" % (kind, first, later))
     assert all(within_a_count(counts, first, slack) for counts in later)
 
@@ -345,9 +351,9 @@ def test_rcl_leaving_leaves_the_board_safe_and_its_tick_stopped():
     assert server.stats["watchdog"] == 0
 
 
-def test_a_silent_host_leaves_rcl_board_and_the_native_firmware_quiet(board):
-    for kind in ("tcp", "native-fast"):
-        raw = board(kind).raw()
+def test_a_silent_host_leaves_rcl_board_and_the_native_firmware_quiet(running, board):
+    for b in (running("tcp"), board("native-fast")):
+        raw = b.raw()
         hostile(raw, seed=5)                          # ticking, motors on
         # silent: the watchdog's 250 ms pass (the native board first waits
         # up to 1 s for the answer to its TICK, not counting that time)
@@ -372,6 +378,20 @@ def test_a_second_host_is_refused_naming_the_cause_and_rcl_says_so(running, imag
     assert run.returncode == 2 and "Traceback" not in run.stderr
     assert run.stderr == ("rcl: The board on %s refused a session: busy: another host is "
                           "connected\n" % b.where)
+
+
+def test_a_start_that_fails_after_connecting_leaves_the_board_to_the_next_host(
+        running, image, tmp_path):
+    # rcl.open() connects, then loads RCL (here a damaged image; on a busy
+    # machine, a Link lost during INSTALL): the link it opened must close
+    # with the error, or it stays connected, the board's host for ever
+    b = running("tcp")
+    damaged = tmp_path / "damaged.img"
+    damaged.write_bytes(b"not an image")
+    with pytest.raises(Exception) as e:
+        rcl.open(port=b.where, image=str(damaged))
+    assert "busy" not in str(e.value)
+    assert all(abs(c - 29) <= 2 for c in session(b.where, image))
 
 
 def test_a_client_that_connects_and_says_nothing_is_dropped_when_a_host_asks(running, image):
