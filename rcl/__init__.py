@@ -104,10 +104,14 @@ def open_link(port, usb, write, screens, image):
     from rcl.forth.machine import Forth
     from rcl.hw.connect import open_link as connect
     board = connect(port=port, usb=usb)
-    m = Forth(write=write, board=board)
-    server = getattr(board.port, "server", None)
-    if server is not None:
-        from rcl.sim.observe import Sim
-        m.sim = Sim(server.board)
-    load_rcl(m, screens, image)
+    try:
+        m = Forth(write=write, board=board)
+        server = getattr(board.port, "server", None)
+        if server is not None:
+            from rcl.sim.observe import Sim
+            m.sim = Sim(server.board)
+        load_rcl(m, screens, image)
+    except BaseException:
+        board.close()         # a start that failed leaves no host connected
+        raise
     return m

@@ -5,6 +5,9 @@ harness with the Uno image), connect rcl to it, and a fault relay for the
 link's fault cases.
 
     build("native")                  -> firmware/build (make, once per session)
+    native_program(), uno_image(), harness_built()   -> the programs, built
+    native_board (fixture)           start("--rate", 2) -> a native board process
+    simavr (fixture)                 start(elf, *options) -> a Simavr, figures()
     with BoardProcess([exe, ...]) as board:
         m = connect(board.path)      # rcl.open(port=path)
         board.notes                  # the native build's event lines, parsed
@@ -16,12 +19,14 @@ link's fault cases.
 Without the toolchain the tests skip and say what to install (or fail,
 with RCL_REQUIRE_FIRMWARE=1, as CI wants).
 """
+import json
 import os
 import pathlib
 import random
 import re
 import select
 import shutil
+import signal
 import subprocess
 import threading
 import time
@@ -36,6 +41,9 @@ FIRMWARE = ROOT / "firmware"
 BUILD = FIRMWARE / "build"
 INSTALL = ("apt-get install --no-install-recommends "
            "gcc-avr avr-libc binutils-avr libsimavr-dev")
+SIMAVR_BUILD = FIRMWARE / "simavr" / "build"
+HARNESS = SIMAVR_BUILD / "rcl-simavr"
+PINS_TEST = SIMAVR_BUILD / "pins-test.elf"
 NATIVE_TOOLS = ("make", "cc")
 AVR_TOOLS = ("make", "avr-gcc", "avr-objcopy", "avr-size")
 
@@ -47,16 +55,19 @@ def missing_tools(tools):
     return [t for t in tools if shutil.which(t) is None]
 
 
+def missing(why):
+    """Skip the test, saying what to install; a failure instead where the
+    firmware tests must run (CI sets RCL_REQUIRE_FIRMWARE=1 after
+    installing the toolchain)."""
+    if os.environ.get("RCL_REQUIRE_FIRMWARE") == "1":
+        pytest.fail(why)
+    pytest.skip(why)
+
+
 def require_tools(tools):
-    """Skip the test, saying what to install, when a tool is missing; a
-    failure instead where the firmware tests must run (CI sets
-    RCL_REQUIRE_FIRMWARE=1 after installing the toolchain)."""
     gone = missing_tools(tools)
     if gone:
-        why = "firmware toolchain missing (%s): %s" % (", ".join(gone), INSTALL)
-        if os.environ.get("RCL_REQUIRE_FIRMWARE") == "1":
-            pytest.fail(why)
-        pytest.skip(why)
+        missing("firmware toolchain missing (%s): %s" % (", ".join(gone), INSTALL))
 
 
 def build(*targets, **make_vars):
@@ -85,6 +96,20 @@ def native_program(version=1):
         return BUILD / "native"
     build("native", VERSION=version)
     return BUILD / ("native-v%d" % version)
+
+
+def uno_image(version=1):
+    """The Uno image (another protocol version: its own build)."""
+    build("uno", **({"VERSION": version} if version != 1 else {}))
+    return BUILD / ("uno%s.elf" % ("" if version == 1 else "-v%d" % version))
+
+
+def harness_built():
+    """rcl-simavr and its test program, built; -> the harness."""
+    if not os.path.exists("/usr/include/simavr/sim_avr.h"):
+        missing("simavr's headers are missing (libsimavr-dev): " + INSTALL)
+    build("simavr")
+    return HARNESS
 
 
 NOTE = re.compile(r"(\w+) (.*)")
@@ -160,6 +185,63 @@ class BoardProcess:
 
     def __exit__(self, *exc):
         self.close()
+
+
+class Simavr(BoardProcess):
+    """rcl-simavr running an image: a board process whose figures (true
+    edges, TICK period, bytes each way) come from its stats file."""
+
+    def __init__(self, tmp_path, elf, *options):
+        self.stats_path = pathlib.Path(tmp_path) / ("simavr-%d.json" % id(self))
+        super().__init__([harness_built(), "--quiet", "--stats", self.stats_path,
+                          *options, elf])
+
+    def figures(self):
+        """The harness's figures now (SIGUSR1 asks for a fresh stats file)."""
+        seen = self._report()
+        os.kill(self.proc.pid, signal.SIGUSR1)
+        self.wait_for(lambda: self._report() > seen)
+        return json.loads(self.stats_path.read_text())
+
+    def _report(self):
+        try:
+            return json.loads(self.stats_path.read_text())["report"]
+        except (OSError, ValueError):
+            return 0
+
+    def stop(self):
+        """Stop it; -> its last figures (written as it exits)."""
+        self.close()
+        return json.loads(self.stats_path.read_text())
+
+
+# Fixtures for the test modules that import them: each board started is
+# closed after its test.
+@pytest.fixture
+def native_board():
+    """-> start(*options, version=1): the native build (or another
+    protocol version's) with its options, e.g. start("--rate", 2)."""
+    started = []
+
+    def start(*options, version=1):
+        started.append(BoardProcess([native_program(version), *options]))
+        return started[-1].__enter__()
+    yield start
+    for b in started:
+        b.close()
+
+
+@pytest.fixture
+def simavr(tmp_path):
+    """-> start(elf, *options): rcl-simavr running an image."""
+    started = []
+
+    def start(elf, *options):
+        started.append(Simavr(tmp_path, elf, *options).__enter__())
+        return started[-1]
+    yield start
+    for b in started:
+        b.close()
 
 
 def connect(path):
@@ -265,6 +347,29 @@ class RawLink:
         data = self.P.frame(seq, name, **values)
         self.send(data)
         return data
+
+    def hello(self):
+        """HELLO until IDENTIFY (a host gives a board that is starting
+        3 s); -> the IDENTIFY."""
+        for _ in range(3):
+            self.frame(0, "HELLO", version=self.P.VERSION)
+            ident = self.receive("IDENTIFY", seconds=1.0)
+            if ident is not None:
+                return ident
+        pytest.fail("no IDENTIFY")
+
+    def ask(self, seq, name, /, **values):
+        """A sequenced frame, sent again every 100 ms until its answer
+        comes (a repeat is answered again, not acted on twice: section
+        3); -> the answer. The 10 s bound is for a broken board."""
+        for _ in range(100):
+            self.frame(seq, name, **values)
+            end = time.monotonic() + 0.1
+            while time.monotonic() < end:
+                f = self.receive(seconds=0.02)
+                if f is not None and "ack" in f.values and f["ack"] == seq:
+                    return f
+        pytest.fail("no answer to %s" % name)
 
     def receive(self, want=None, seconds=2.0):
         """Frames until one named `want` (or any, if None) comes; -> it, or

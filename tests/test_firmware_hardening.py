@@ -14,8 +14,9 @@ import time
 
 import pytest
 
-from firmware_support import BUILD, BoardProcess, RawLink, build, connect, native_program
-from test_firmware_native import FIRST_COMMAND, PER_MOVE, counts, simulated, within
+from firmware_support import (BUILD, FIRST_COMMAND, PER_MOVE, RawLink, build, connect, counts,
+                              simulated, uno_image, within)
+from firmware_support import native_board, simavr  # noqa: F401 (fixtures)
 
 CORE_TEST = BUILD / "core-test"
 
@@ -70,26 +71,20 @@ def test_the_speed_loop_runs_the_same_across_the_encoders_2_31_and_2_32_wraps():
     assert core_check("edge_wrap")["bad"] == 0
 
 
+def test_the_crc_table_is_the_documents_crc_bit_by_bit():
+    # every entry after 256 CRC states, and CRC-16/CCITT-FALSE's check
+    # value for "123456789" (the table is written out in src/crc16.c)
+    figures = core_check("crc_table")
+    assert figures["pairs"] == 65_536 and figures["bad"] == 0
+
+
 # ---------------------------------------------------- the native build
 @pytest.fixture
-def board():
-    started = []
-
-    def start(*options):
-        b = BoardProcess([native_program(), *options])
-        started.append(b)
-        return b.__enter__()
-    yield start
-    for b in started:
-        b.close()
-
-
-@pytest.fixture
-def raw(board):
+def raw(native_board):
     links = []
 
     def open_(*options):
-        b = board(*options)
+        b = native_board(*options)
         link = RawLink(b.path)
         link.board = b
         links.append(link)
@@ -97,30 +92,6 @@ def raw(board):
     yield open_
     for link in links:
         link.close()
-
-
-def hello(link):
-    """HELLO until IDENTIFY (a host gives a board that is starting 3 s)."""
-    for _ in range(3):
-        link.frame(0, "HELLO", version=1)
-        ident = link.receive("IDENTIFY", seconds=1.0)
-        if ident is not None:
-            return ident
-    pytest.fail("no IDENTIFY")
-
-
-def ask(link, seq, name, **values):
-    """A sequenced frame, sent again every 100 ms until its answer comes
-    (a repeat is answered again, not acted on twice: section 3); -> the
-    answer. The 10 s bound is for a broken board, not a measure."""
-    for _ in range(100):
-        link.frame(seq, name, **values)
-        end = time.monotonic() + 0.1
-        while time.monotonic() < end:
-            f = link.receive(seconds=0.02)
-            if f is not None and "ack" in f.values and f["ack"] == seq:
-                return f
-    pytest.fail("no answer to %s" % name)
 
 
 def motor_notes(link, value):
@@ -145,9 +116,9 @@ def test_the_native_tick_is_10_0005_ms_not_10(raw):
     # expiries there, and at 60 MOTOR writes from 21 s of board time on,
     # where a 10.0005 ms tick falls 1 or 2 steps after a 10 ms one would.
     link = raw("--rate", "20")
-    hello(link)
+    link.hello()
     ops = [(0, 0xFF52, 0x0B), (0, 0xFF53, 0x1A), (0, 0x88, 0x01)]     # 6667 = 0x1A0B
-    assert ask(link, 1, "RUN", ops=ops).name == "RESULTS"
+    assert link.ask(1, "RUN", ops=ops).name == "RESULTS"
     assert link.board.wait_for(lambda: motor_notes(link, 0x01))
     start = motor_notes(link, 0x01)[0]
     beat = {"us": start["us"]}
@@ -160,7 +131,7 @@ def test_the_native_tick_is_10_0005_ms_not_10(raw):
     assert link.board.wait_for(later, 300)
     before = len(link.board.events("motor"))
     for seq in range(2, 62):
-        assert ask(link, seq, "OUT8", port=0x88, value=0x05 if seq & 1 else 0x01).name == "ACK"
+        assert link.ask(seq, "OUT8", port=0x88, value=0x05 if seq & 1 else 0x01).name == "ACK"
     assert link.board.wait_for(lambda: len(link.board.events("motor")) >= before + 60)
     exact = ten_ms = 0
     for note in link.board.events("motor")[before:]:
@@ -174,11 +145,11 @@ def test_a_period_shorter_than_2_5_ms_ticks_every_2_5_ms(raw):
     # max count 1 through timer 2's 3: 1.5 us, which no board serves; the
     # firmware's floor (config.h TICK_MIN_HALF_US), exactly
     link = raw("--rate", "5")
-    hello(link)
-    assert ask(link, 1, "RUN", ops=[(0, 0xFF52, 1), (0, 0xFF53, 0), (0, 0x88, 0x01)]).name \
+    link.hello()
+    assert link.ask(1, "RUN", ops=[(0, 0xFF52, 1), (0, 0xFF53, 0), (0, 0x88, 0x01)]).name \
         == "RESULTS"
     link.board.wait_for(lambda: False, 1.0)
-    assert ask(link, 2, "OUT8", port=0x88, value=0x05).name == "ACK"
+    assert link.ask(2, "OUT8", port=0x88, value=0x05).name == "ACK"
     assert link.board.wait_for(lambda: motor_notes(link, 0x01) and motor_notes(link, 0x05))
     start, end = motor_notes(link, 0x01)[0], motor_notes(link, 0x05)[0]
     steps = (end["us"] - start["us"]) // 1000
@@ -188,27 +159,27 @@ def test_a_period_shorter_than_2_5_ms_ticks_every_2_5_ms(raw):
 
 def test_a_hello_without_its_version_byte_neither_answers_nor_restarts_the_session(raw):
     link = raw("--rate", "1")
-    hello(link)
-    assert ask(link, 1, "OUT8", port=0x89, value=0x02).name == "ACK"
+    link.hello()
+    assert link.ask(1, "OUT8", port=0x89, value=0x02).name == "ACK"
     for payload in (b"", b"\x01\x01"):                  # HELLO with 0 and 2 bytes
         body = bytes((len(payload), 0, 0x01)) + payload
         crc = link.P.crc16(body)
         link.send(b"\xa5" + body + bytes((crc >> 8, crc & 0xFF)))
     assert link.receive("IDENTIFY", seconds=0.5) is None
     # the session went on: SEQ 2 is new (after a HELLO it would be ignored)
-    assert ask(link, 2, "OUT8", port=0x88, value=0x05).name == "ACK"
+    assert link.ask(2, "OUT8", port=0x88, value=0x05).name == "ACK"
     assert link.board.wait_for(lambda: motor_notes(link, 0x05))
 
 
 def test_an_echo_of_the_boards_frames_takes_no_seq_and_does_not_feed_the_watchdog(raw):
     link = raw("--rate", "1")
-    hello(link)
-    ack = ask(link, 1, "OUT8", port=0x89, value=0x02)
+    link.hello()
+    ack = link.ask(1, "OUT8", port=0x89, value=0x02)
     # the board's own ACK, come back on a line that echoes, with the SEQ
     # the host uses next
     link.frame(2, "ACK", ack=1)
     link.send(link.P.frame(ack.seq, "ACK", ack=1))
-    answer = ask(link, 2, "OUT8", port=0x88, value=0x05)
+    answer = link.ask(2, "OUT8", port=0x88, value=0x05)
     assert answer.name == "ACK" and answer["ack"] == 2
     assert link.board.wait_for(lambda: motor_notes(link, 0x05))     # acted on: new
     # Now only echoes: every board frame sent straight back for 600 ms.
@@ -233,13 +204,13 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
     # does not fit (putc never waits for a reader) and counts it; its
     # ticks and its watchdog go on.
     link = raw("--rate", "10")
-    hello(link)
+    link.hello()
     seq = 1
     for value in (0x10, 0x2A, 0x00, 0x10):                          # INT 1Ch -> 1000:2A10
-        assert ask(link, seq, "FAR_STORE", seg=0, off=0x70 + seq - 1, value=value).name == "ACK"
+        assert link.ask(seq, "FAR_STORE", seg=0, off=0x70 + seq - 1, value=value).name == "ACK"
         seq += 1
-    assert ask(link, seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
-    assert ask(link, seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
+    assert link.ask(seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
+    assert link.ask(seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
     # Not read for about 80 s of board time, the watchdog fed all the while
     # (PING every 10 ms of wall time, 100 ms of the board's): a host that
     # only stopped reading is still there. Then silence: the watchdog.
@@ -253,7 +224,7 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
     end = time.monotonic() + 3.0
     while time.monotonic() < end and link.receive(seconds=0.2) is not None:
         pass
-    ident = hello(link)
+    ident = link.hello()
     lost = dict(f.split("=") for f in ident["name"].split() if "=" in f)
     assert int(lost["tx"]) > 0
     trip = link.board.events("watchdog")[0]
@@ -263,10 +234,10 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
 
 @pytest.mark.parametrize("edges_from", [2**31 - 2_000, 2**32 - 2_000])
 def test_the_first_command_drives_the_same_with_the_encoders_past_their_32_bit_wraps(
-        board, edges_from):
+        native_board, edges_from):
     # Counters near 2^31 (a signed overflow before: after 50 hours at full
     # speed) and 2^32: the move takes them through the wrap.
-    b = board("--rate", "2", "--edges-from", edges_from)
+    b = native_board("--rate", "2", "--edges-from", edges_from)
     m = connect(b.path)
     try:
         assert m.evaluate(FIRST_COMMAND) == ""
@@ -292,7 +263,9 @@ LAG_WATCH = [
 ]
 
 
-def test_a_300_foot_move_keeps_its_lag_from_start_to_end(board):
+@pytest.mark.skipif(not os.environ.get("CI"), reason="a 41 s move in real time, run under CI; "
+                    "the tick's arithmetic test holds it over 2 million ticks")
+def test_a_300_foot_move_keeps_its_lag_from_start_to_end(native_board):
     # 102,272 counts at 5 MPH (41 s, in real time: a host on a busy
     # machine keeps up with 100 ticks a second more surely than with more):
     # the lag at the end of the cruise is its lag at the start. The 10.000
@@ -300,7 +273,10 @@ def test_a_300_foot_move_keeps_its_lag_from_start_to_end(board):
     # counts over this move (measured at 4 times real time, the lag at
     # single ticks: 7 at the start, 12 at the end; 7 and 7 with the exact
     # tick), and the 100-count following limit after 2 million counts.
-    b = board("--rate", "1")
+    # Under CI only: 41 s (about 8 s of CPU, the host's, at any rate).
+    # Faster than real time the host's answers land later in each tick:
+    # at 8 times, at load 14, the lag moved 1.3 counts between the windows.
+    b = native_board("--rate", "1")
     m = connect(b.path)
     try:
         for line in LAG_WATCH:
@@ -327,33 +303,18 @@ def hang_image():
     return BUILD / "uno-hang.elf"
 
 
-@pytest.fixture
-def simavr(tmp_path):
-    from test_firmware_simavr import Simavr, harness_built
-    harness_built()
-    started = []
-
-    def start(elf, *options):
-        started.append(Simavr(tmp_path, elf, *options).__enter__())
-        return started[-1]
-    yield start
-    for s in started:
-        s.close()
-
-
 def test_a_one_second_tick_on_the_uno_image_is_one_second(simavr):
     # 20000 counts through timer 2's 100: 2,000,000 half-us. Timer1 cut
     # every period to 262 ms before; now it matches every 20,000 steps and
     # counts 100 matches.
-    from test_firmware_simavr import uno_image
     sim = simavr(uno_image())
     link = RawLink(sim.path)
     try:
-        hello(link)
-        assert ask(link, 1, "OUT16", port=0xFF62, value=100).name == "ACK"
-        assert ask(link, 2, "OUT16", port=0xFF52, value=20000).name == "ACK"
+        link.hello()
+        assert link.ask(1, "OUT16", port=0xFF62, value=100).name == "ACK"
+        assert link.ask(2, "OUT16", port=0xFF52, value=20000).name == "ACK"
         for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):      # INT 1Ch -> 1000:2A10
-            assert ask(link, 3 + off, "FAR_STORE", seg=0, off=0x70 + off, value=value).name \
+            assert link.ask(3 + off, "FAR_STORE", seg=0, off=0x70 + off, value=value).name \
                 == "ACK"
         ticks, end = [], time.monotonic() + 60          # (a bound for a broken board)
         while len(ticks) < 4 and time.monotonic() < end:
@@ -381,11 +342,11 @@ def test_a_hung_main_loop_is_reset_by_the_watchdog_and_the_motor_pins_read_safe(
     sim = simavr(hang_image())
     link = RawLink(sim.path)
     try:
-        hello(link)
+        link.hello()
         seq = 1
         for port, value in ((0x83, 0x36), (0x80, 0xFA), (0x80, 0x00),      # N = 250
                             (0x87, 0x36), (0x84, 0xFA), (0x84, 0x00), (0x88, 0x35)):
-            assert ask(link, seq, "OUT8", port=port, value=value).name == "ACK"
+            assert link.ask(seq, "OUT8", port=port, value=value).name == "ACK"
             seq += 1
         assert sim.wait_for(lambda: all(d > 0 for d in sim.figures()["drive"]), 20)
         link.frame(seq, "OUT8", port=0x8F, value=0 if interrupts.startswith("on") else 1)
@@ -403,13 +364,13 @@ def test_a_hung_main_loop_is_reset_by_the_watchdog_and_the_motor_pins_read_safe(
         if interrupts != "on, flooded":                    # (the PINGs are later frames)
             assert 0.055 <= stopped <= 0.080, stopped      # 64 ms, not the 250 of the link
         # the board is at power-on, and says it was reset by its watchdog
-        ident = hello(link)
+        ident = link.hello()
         errors = dict(f.split("=") for f in ident["name"].split() if "=" in f)
         print("IDENTIFY after the reset: %s" % ident["name"])
         assert errors["wd"] == "1" and errors["fe"] == "0"
         if interrupts == "on, flooded":
             assert 150 <= int(errors["or"]) <= 300 - 127
-        assert ask(link, 1, "IN8", port=0x8A).name == "VALUE"
+        assert link.ask(1, "IN8", port=0x8A).name == "VALUE"
         assert sim.figures()["drive"] == [0.0, 0.0]
     finally:
         link.close()

@@ -32,9 +32,9 @@ import pytest
 
 import rcl
 from rcl.hw import protocol as P
-from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, BoardProcess, FaultRelay, RawLink,
-                              connect, counts, leg_after_reconnect, native_program, simulated,
-                              within)
+from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, FaultRelay, RawLink, connect, counts,
+                              leg_after_reconnect, simulated, within)
+from firmware_support import native_board  # noqa: F401 (a fixture)
 
 from pathlib import Path
 
@@ -46,20 +46,6 @@ EXAMPLES = Path(rcl.SCREENS) / "examples"
 # clock (the "silence" note) the trip comes no earlier than 250 ms less
 # the one step board time may lag it by.
 WATCHDOG_BOARD_US = 253_000
-
-
-@pytest.fixture
-def board():
-    """-> start(rate=1, version=1): a native board process."""
-    started = []
-
-    def start(rate=1, version=1):
-        b = BoardProcess([native_program(version), "--rate", rate])
-        started.append(b)
-        return b.__enter__()
-    yield start
-    for b in started:
-        b.close()
 
 
 @pytest.fixture
@@ -77,8 +63,8 @@ def host():
 
 
 # ------------------------------------------------------- the robot moves
-def test_the_articles_first_command_at_real_time_drives_as_the_simulated_board(board, host):
-    b = board(rate=1)
+def test_the_articles_first_command_at_real_time_drives_as_the_simulated_board(native_board, host):
+    b = native_board("--rate", 1)
     m = host(b.path)
     start = m.board.ticks
     assert m.evaluate(FIRST_COMMAND) == ""
@@ -90,10 +76,10 @@ def test_the_articles_first_command_at_real_time_drives_as_the_simulated_board(b
     assert m.board.ticks - start > 100
 
 
-def test_listing_1_drives_the_square_as_the_simulated_board(board, host):
+def test_listing_1_drives_the_square_as_the_simulated_board(native_board, host):
     # Twice real time: a board that cannot wait gives a host 5 ms of wall
     # time a tick (at 4 times, PyPy's JIT warming up fell 25 ticks behind)
-    b = board(rate=2)
+    b = native_board("--rate", 2)
     m = host(b.path)
     m.include(EXAMPLES / "listing1.fs")
     got = counts(m)
@@ -105,8 +91,8 @@ def test_listing_1_drives_the_square_as_the_simulated_board(board, host):
 
 
 # --------------------------------------------------------------- the link
-def test_corrupted_and_dropped_bytes_both_ways_change_no_count(board, host):
-    b = board(rate=2)
+def test_corrupted_and_dropped_bytes_both_ways_change_no_count(native_board, host):
+    b = native_board("--rate", 2)
     with FaultRelay(b.path, seed=7) as relay:
         m = host(relay.path)
         relay.corrupt, relay.drop = 0.01, 0.005        # RCL loaded: now the move's line
@@ -118,8 +104,8 @@ def test_corrupted_and_dropped_bytes_both_ways_change_no_count(board, host):
     assert b.proc.poll() is None                # the board lives on
 
 
-def test_a_flood_of_garbage_both_ways_crashes_nothing_and_changes_no_count(board, host):
-    b = board(rate=2)
+def test_a_flood_of_garbage_both_ways_crashes_nothing_and_changes_no_count(native_board, host):
+    b = native_board("--rate", 2)
     noise = random.Random(3)
     garbage = bytes(noise.choice((0xA5, 0x40, 0x01, noise.randrange(256))) for _ in range(6000))
     with FaultRelay(b.path, seed=3) as relay:
@@ -133,8 +119,9 @@ def test_a_flood_of_garbage_both_ways_crashes_nothing_and_changes_no_count(board
     assert b.proc.poll() is None
 
 
-def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdog(board, host):
-    b = board(rate=1)
+def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdog(
+        native_board, host):
+    b = native_board("--rate", 1)
     with FaultRelay(b.path) as relay:
         m = host(relay.path)
         m.evaluate(": LEG  RERB 3 INCHES FORWARD ;")
@@ -169,8 +156,8 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdo
     assert within(leg, simulated("RERB 3 INCHES FORWARD"), PER_MOVE + 3)
 
 
-def test_a_board_of_another_protocol_version_is_refused_naming_both(board):
-    b = board(version=2)
+def test_a_board_of_another_protocol_version_is_refused_naming_both(native_board):
+    b = native_board(version=2)
     with pytest.raises(P.LinkError) as e:
         connect(b.path)
     assert "protocol version 2" in str(e.value) and "version 1" in str(e.value)
@@ -178,8 +165,8 @@ def test_a_board_of_another_protocol_version_is_refused_naming_both(board):
 
 # ------------------------------------------------- the protocol's own rules
 @pytest.fixture
-def raw(board):
-    b = board(rate=1)
+def raw(native_board):
+    b = native_board("--rate", 1)
     link = RawLink(b.path)
     link.board = b
     yield link

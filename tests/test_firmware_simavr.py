@@ -25,62 +25,10 @@ import serial
 
 import rcl
 from rcl.hw.protocol import LinkError
-from firmware_support import (BUILD, FIRST_COMMAND, INSTALL, LEGS, PER_MOVE, ROOT, BoardProcess,
-                              FaultRelay, build, connect, counts, leg_after_reconnect, simulated,
-                              within)
-
-SIMAVR_BUILD = ROOT / "firmware" / "simavr" / "build"
-HARNESS = SIMAVR_BUILD / "rcl-simavr"
-PINS_TEST = SIMAVR_BUILD / "pins-test.elf"
-
-
-def harness_built():
-    """Build rcl-simavr and its test program (skip, saying what to install,
-    without the toolchain or simavr's headers)."""
-    if not os.path.exists("/usr/include/simavr/sim_avr.h"):
-        pytest.skip("simavr's headers are missing (libsimavr-dev): " + INSTALL)
-    build("simavr")
-    return HARNESS
-
-
-class Simavr(BoardProcess):
-    """rcl-simavr running an image: a board process whose figures (true
-    edges, TICK period, bytes each way) come from its stats file."""
-
-    def __init__(self, tmp_path, elf, *options):
-        self.stats_path = tmp_path / ("simavr-%d.json" % id(self))
-        super().__init__([harness_built(), "--quiet", "--stats", self.stats_path,
-                          *options, elf])
-
-    def figures(self):
-        """The harness's figures now (SIGUSR1 asks for a fresh stats file)."""
-        seen = self._report()
-        os.kill(self.proc.pid, signal.SIGUSR1)
-        self.wait_for(lambda: self._report() > seen)
-        return json.loads(self.stats_path.read_text())
-
-    def _report(self):
-        try:
-            return json.loads(self.stats_path.read_text())["report"]
-        except (OSError, ValueError):
-            return 0
-
-    def stop(self):
-        """Stop it; -> its last figures (written as it exits)."""
-        self.close()
-        return json.loads(self.stats_path.read_text())
-
-
-@pytest.fixture
-def simavr(tmp_path):
-    started = []
-
-    def start(elf, *options):
-        started.append(Simavr(tmp_path, elf, *options).__enter__())
-        return started[-1]
-    yield start
-    for board in started:
-        board.close()
+from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, PINS_TEST, ROOT, FaultRelay, RawLink,
+                              connect, counts, harness_built, leg_after_reconnect, simulated,
+                              uno_image, within)
+from firmware_support import simavr  # noqa: F401 (a fixture)
 
 
 # ------------------------------------------- the harness, on its own program
@@ -217,11 +165,6 @@ def test_at_half_rate_the_board_runs_half_as_fast_as_the_wall_clock(simavr):
 # (test_firmware_native's helpers: firmware/simavr/NOTES-for-firmware.md
 # asks for them in firmware_support.)
 EDGES_PER_COUNT = 4
-
-
-def uno_image(version=1):
-    build("uno", **({"VERSION": version} if version != 1 else {}))
-    return BUILD / ("uno%s.elf" % ("" if version == 1 else "-v%d" % version))
 
 
 @pytest.fixture
@@ -443,3 +386,46 @@ def test_a_free_running_board_leaves_a_late_host_behind(uno, host):
     except rcl.ForthError:                      # a Following error, often: the move ran away
         pass
     assert m.board.skipped > 0 and sim.figures()["holds"] == 0
+
+
+def run_ticks(link, seq, n):
+    """Point INT 1Ch into the Forth segment and answer the TICKs at once,
+    as a host that keeps up, up to tick n; -> the tick numbers seen (the
+    first few may pass while the last FAR_STORE's answer is awaited)."""
+    for off, value in enumerate((0x10, 0x2A, 0x00, 0x10)):          # 1000:2A10
+        assert link.answer(seq + off, "FAR_STORE", seg=0, off=0x70 + off, value=value)
+    seq += 4
+    seen, end = [0], time.monotonic() + 60              # (a bound for a broken board)
+    while seen[-1] < n and time.monotonic() < end:
+        f = link.receive("TICK", seconds=0.5)
+        if f is not None:
+            seen.append(f["tick"])
+            link.frame(seq, "TICK_DONE", tick=f["tick"], final=1, us=0, writes=[])
+            seq = seq % 255 + 1
+    return seen[1:]
+
+
+def test_the_harness_sees_a_new_sessions_ticks_as_new_and_paces_it_as_the_first(uno):
+    # HELLO puts the board at power-on, its ticks from 1 again. The
+    # harness waits for a host late with a tick's answer by the tick
+    # numbers it watches on the wire: had it kept the last session's, a
+    # new session's lower numbers read as repeats, the host as far
+    # behind, and board time stood still or ran on without it at random
+    # (a new session's first move ended 2-3 counts further on).
+    sim = uno()
+    link = RawLink(sim.path)
+    try:
+        for n in (60, 20):
+            link.hello()                        # no TICK until INT 1Ch is set
+            before = sim.figures()
+            seen = run_ticks(link, 1, n)
+            assert sim.wait_for(lambda: sim.figures()["answered_tick"] == seen[-1])
+            figures = sim.figures()
+            assert seen == list(range(seen[0], n + 1)) and seen[0] < 10
+            # every tick since IDENTIFY counted, 1 to the last (the board
+            # may have gone on past n, unanswered, by now)
+            assert figures["answered_tick"] == n and figures["last_tick"] >= n
+            assert figures["tick_frames"] - before["tick_frames"] == figures["last_tick"]
+        assert figures["sessions"] == 2
+    finally:
+        link.close()

@@ -86,6 +86,19 @@ static void on_tick(link_watch *w, const uint8_t *payload,
     w->bytes_in[0] = w->bytes_in[1] = 0;
 }
 
+/* IDENTIFY: the board is as at power-on (docs/protocol.md, "Sessions"),
+ * its tick count from 0 again. What was known of the last host's ticks
+ * is forgotten, or the new ticks would read as repeats of old ones (a
+ * lower number) and the host as far behind: board time held for it. */
+static void new_session(link_watch *w)
+{
+    w->sessions++;
+    w->have_tick = 0;
+    w->last_tick = 0;
+    w->have_answer = 0;
+    w->answered = 0;
+}
+
 /* Which host frame still waits for the board's answer (section 3): the
  * board must be let run until it has answered. PING and WAIT get none. */
 static void track_answers(link_watch *w, int from_board, uint8_t seq,
@@ -136,6 +149,11 @@ static void scan(link_watch *w, frame_rx *rx)
             continue;
         }
         rx->good++;
+        if (rx->from_board && rx->buf[3] == FRAME_IDENTIFY)
+            new_session(w);
+        if (w->on_frame)
+            w->on_frame(w->on_frame_ctx, rx->from_board, rx->buf, len + 6,
+                        rx->when[0]);
         if (!rx->from_board)
             w->last_host_frame = rx->when[len + 5];
         rx->by_type[rx->buf[3]]++;
@@ -207,8 +225,8 @@ static void types_json(FILE *f, const frame_rx *rx)
 
 void link_watch_json(const link_watch *w, FILE *f)
 {
-    fprintf(f, "\"last_tick\": %u, \"answered_tick\": %u, ",
-            w->last_tick, w->answered);
+    fprintf(f, "\"sessions\": %lu, \"last_tick\": %u, \"answered_tick\": %u, ",
+            w->sessions, w->last_tick, w->answered);
     fprintf(f, "\"tick_frames\": %lu, \"ticks_missed\": %lu, "
                "\"last_host_frame_s\": %.6f, ",
             w->ticks, w->missed, (double)w->last_host_frame / w->hz);

@@ -19,6 +19,11 @@
 #define FRAME_SYNC 0xA5
 #define FRAME_TICK 0x84
 #define FRAME_TICK_DONE 0x09
+#define FRAME_IDENTIFY 0x81
+
+/* A good frame seen on the wire (SYNC to CRC), for a trace. */
+typedef void (*frame_fn)(void *ctx, int from_board, const uint8_t *frame,
+                         int len, avr_cycle_count_t at);
 
 /* Running figures of one quantity. */
 typedef struct acc {
@@ -55,6 +60,9 @@ typedef struct link_watch {
     acc period_us;                    /* one TICK to the next */
     unsigned long bytes_in[2];        /* [to_board, from_board] since last TICK */
     acc per_tick[2];
+    unsigned long sessions;           /* IDENTIFYs seen: each starts a session */
+    frame_fn on_frame;                /* every good frame, if set */
+    void *on_frame_ctx;
 } link_watch;
 
 void link_watch_init(link_watch *w, double hz);

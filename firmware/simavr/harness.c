@@ -52,6 +52,7 @@
 typedef struct options {
     const char *elf;
     const char *stats_path;
+    const char *trace_path;
     double rate;
     int hold[LIMIT_COUNT];
     int quiet;
@@ -79,6 +80,8 @@ typedef struct harness {
     char line[256];                   /* stdin command being read */
     size_t line_len;
     int stdin_open;
+    unsigned long sessions;           /* the link watch's, as last seen */
+    FILE *trace;                      /* --trace: a line per good frame */
 } harness;
 
 static harness H;                     /* one per process: signals reach it */
@@ -166,6 +169,26 @@ static void write_stats_file(void)
     rename(tmp, H.opt.stats_path);
 }
 
+/* ------------------------------------------------------------ trace */
+/* A line per good frame on the wire: simulated time in us, who sent it
+ * (> to the board, < from it), SEQ, type, payload in hex, and the motor
+ * model's true edges and drive of each wheel at that moment. Two
+ * sessions' traces side by side show where they part. */
+static void trace_frame(void *ctx, int from_board, const uint8_t *f, int len,
+                        avr_cycle_count_t at)
+{
+    const wheels *ws = &H.ws;
+
+    (void)ctx;
+    fprintf(H.trace, "%.1f %c %3u %02X ", (double)at * 1e6 / H.avr->frequency,
+            from_board ? '<' : '>', f[2], f[3]);
+    for (int i = 4; i < len - 2; i++)
+        fprintf(H.trace, "%02X", f[i]);
+    fprintf(H.trace, " | %.0f %.0f %.4f %.4f\n",
+            motor_edges(&ws->w[WHEEL_LEFT].m), motor_edges(&ws->w[WHEEL_RIGHT].m),
+            ws->w[WHEEL_LEFT].drive, ws->w[WHEEL_RIGHT].drive);
+}
+
 /* ---------------------------------------------------- stdin commands */
 static int limit_named(const char *name)
 {
@@ -237,6 +260,10 @@ static avr_cycle_count_t host_due(void)
     avr_cycle_count_t slack = (avr_cycle_count_t)H.avr->frequency / 1000000 * HOST_SLACK_US;
     avr_cycle_count_t due;
 
+    if (H.lw.sessions != H.sessions) {
+        H.sessions = H.lw.sessions;
+        H.host_away = 0;              /* a new host: nothing owed, not away */
+    }
     if (H.host_away && H.lw.answered != H.away_answer)
         H.host_away = 0;              /* it answered again: it runs the ticks */
     if (H.opt.free_running || H.br.count || H.host_away)
@@ -357,11 +384,12 @@ static void on_reset(avr_t *avr)
 static void usage(void)
 {
     fprintf(stderr,
-        "usage: rcl-simavr [--rate R] [--hold arm|jaw]... [--stats FILE] [--free-running] [--quiet] firmware.elf\n"
+        "usage: rcl-simavr [--rate R] [--hold arm|jaw]... [--stats FILE] [--trace FILE] [--free-running] [--quiet] firmware.elf\n"
         "  --rate R      simulated seconds per real second (default 1)\n"
         "  --hold SW     start with the arm or jaw limit switch held (pin low)\n"
         "  --stats FILE  JSON figures at exit, on SIGUSR1 and on \"stats\"\n"
-        "  --free-running  never wait for a host late with a TICK's answer\n");
+        "  --free-running  never wait for a host late with a TICK's answer\n"
+        "  --trace FILE  a line per good frame: time, way, SEQ, type, payload, wheels\n");
     exit(2);
 }
 
@@ -381,6 +409,8 @@ static void parse_options(int argc, char **argv, options *o)
             o->hold[which] = 1;
         } else if (strcmp(a, "--stats") == 0 && i + 1 < argc) {
             o->stats_path = argv[++i];
+        } else if (strcmp(a, "--trace") == 0 && i + 1 < argc) {
+            o->trace_path = argv[++i];
         } else if (strcmp(a, "--free-running") == 0) {
             o->free_running = 1;
         } else if (strcmp(a, "--quiet") == 0) {
@@ -456,6 +486,15 @@ int main(int argc, char **argv)
     }
     H.br.on_byte = on_wire_byte;
     H.br.on_byte_ctx = &H.lw;
+    if (H.opt.trace_path) {
+        H.trace = fopen(H.opt.trace_path, "w");
+        if (!H.trace) {
+            perror(H.opt.trace_path);
+            return 1;
+        }
+        setvbuf(H.trace, NULL, _IOLBF, 0);
+        H.lw.on_frame = trace_frame;
+    }
     memcpy(H.ws.limit_held, H.opt.hold, sizeof H.ws.limit_held);
     wheels_start(&H.ws, H.avr);
     H.core_reset = H.avr->reset;

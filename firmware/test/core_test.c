@@ -1,12 +1,14 @@
 /* The firmware core's arithmetic, natively, over the ranges a board
  * meets in days of running: the tick's period (exact, no wrap), the
  * speed loop's reference (exact, no overflow) and the encoder counts
- * across their 2^31 and 2^32 wraps. Run by tests/test_firmware_hardening.py;
+ * across their 2^31 and 2^32 wraps; and the link's CRC table against
+ * the CRC computed bit by bit. Run by tests/test_firmware_hardening.py;
  * prints one line per check, "ok NAME figures" or "FAIL NAME why", and
  * exits 1 on a failure.
  *
  *   make -C firmware test-programs && firmware/build/core-test */
 #include "../src/config.h"
+#include "../src/crc16.h"
 #include "../src/pcb.h"
 #include "../src/speed.h"
 
@@ -248,6 +250,38 @@ static void check_edge_wrap(void)
     result(bad == 0, "edge_wrap", figures);
 }
 
+/* docs/protocol.md section 1's CRC, bit by bit, from `crc` */
+static uint16_t crc_bitwise(uint16_t crc, const uint8_t *p, size_t n)
+{
+    while (n--) {
+        crc ^= (uint16_t)(*p++ << 8);
+        for (int i = 0; i < 8; i++)
+            crc = (crc & 0x8000u) ? (uint16_t)((crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
+    }
+    return crc;
+}
+
+/* Every table entry (each byte after 256 CRC states, one per high
+ * byte), and the standard check value of "123456789". */
+static void check_crc_table(void)
+{
+    static const uint8_t check[] = "123456789";
+    unsigned long bad = 0;
+    char figures[64];
+
+    for (unsigned hi = 0; hi < 256; hi++)
+        for (unsigned byte = 0; byte < 256; byte++) {
+            uint16_t crc = (uint16_t)(hi << 8 | (hi ^ 0x5Au));
+            uint8_t b = (uint8_t)byte;
+            if (crc16_update(crc, b) != crc_bitwise(crc, &b, 1))
+                bad++;
+        }
+    if (crc16(check, 9) != 0x29B1 || crc_bitwise(0xFFFF, check, 9) != 0x29B1)
+        bad++;
+    snprintf(figures, sizeof figures, "pairs=65536 check=0x%04X bad=%lu", crc16(check, 9), bad);
+    result(bad == 0, "crc_table", figures);
+}
+
 int main(int argc, char **argv)
 {
     const char *only = argc > 1 ? argv[1] : "";
@@ -264,5 +298,7 @@ int main(int argc, char **argv)
         check_long_steps();
     if (!*only || !strcmp(only, "edge_wrap"))
         check_edge_wrap();
+    if (!*only || !strcmp(only, "crc_table"))
+        check_crc_table();
     return failed;
 }
