@@ -136,6 +136,7 @@ ZOO = [
     ": Z10  BEGIN DUP WHILE 1- DUP 5 > WHILE 2 - REPEAT THEN DROP ;",
     ": Z11  BEGIN DUP WHILE BEGIN 1- DUP 3 > WHILE REPEAT 2 - REPEAT DROP ;",
     ": Z12  AHEAD 5 THEN 1 IF 2 ELSE 3 IF 4 ELSE 5 THEN THEN ;",
+    ': Z13  1 BREAK: 2 BREAK" here" ~~ + ;',
 ]
 
 
@@ -216,3 +217,12 @@ def test_see_of_a_random_definition_compiles_to_a_word_that_behaves_the_same(
         assert run(system, COPY, inputs) == run(system, "ORIG", inputs)
     finally:
         system.evaluate("FORGET ORIG")
+
+
+def test_see_writes_the_debugging_words_as_typed(system):
+    system.evaluate(': Z14  1 BREAK: 2 BREAK" here" ~~ ;')
+    try:
+        text = decompile(system, system.dictionary.find("Z14")[0])
+        assert text == ': Z14 1 BREAK: 2 BREAK" here" ~~ ;'
+    finally:
+        system.evaluate("FORGET Z14")

@@ -101,6 +101,7 @@ def see(m):
 #                      [ xt COMPILE, ] (a name that finds another word)
 #     COMPILE x        COMPILE x   (COMPILE [COMPILE] x for an immediate x)
 #     strings          ." text"  S" text"  S\" te\"xt"  C" text"  ABORT" text"
+#     debugging        BREAK:  BREAK" text"  ~~  (their runtimes, as typed)
 QUOTES = {'(.")': '."', '(S")': 'S"', '(C")': 'C"', '(ABORT")': 'ABORT"', '(")': '"'}
 
 
@@ -216,10 +217,26 @@ def body_text(m, start, self_xt=None):
         elif op == "literal":
             out.append(literal_text(m, ins))
         else:
-            out.append(call_text(m, ins.xt, self_xt))
+            out.append(debug_text(m, ins.xt, out) or call_text(m, ins.xt, self_xt))
     if code and code[-1].next in thens:
         out.extend(["THEN"] * thens.pop(code[-1].next))
     return " ".join(out)
+
+
+# The debugging words compile runtimes of their own (rcl/words/debugging.py):
+# written back as they were typed. BREAK" text" is S" text" then (BREAK").
+DEBUG_RUNTIMES = {"(BREAK)": "BREAK:", "(~~)": "~~"}
+
+
+def debug_text(m, xt, out):
+    """BREAK:, ~~ or BREAK" text" for a debugging runtime (BREAK" takes
+    the S" text" just written over), else None."""
+    name = m.dictionary.name_of(xt)
+    if name in DEBUG_RUNTIMES and m.dictionary.find(name) == (xt, False):
+        return DEBUG_RUNTIMES[name]
+    if name == '(BREAK")' and out and out[-1].startswith('S" '):
+        return 'BREAK"' + out.pop()[2:]
+    return None
 
 
 def call_text(m, xt, self_xt=None):
