@@ -35,13 +35,62 @@ pushes them (`rs_pending`) is emitted only before something that may look
 at the return stack (`forget_rs`). `slow_entry` gives the same
 instruction's (cost, function, arguments) for the exact slow path.
 """
+import ast
+
 from rcl.forth.decode import (keeps_rs, literal_template, rs_growth, rt_2con, rt_con,
                               rt_enter, rt_exit)
 from rcl.forth.inner import RSTACK_CELLS, rt_push
-from rcl.forth.memory import MASK
+from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.forth.memory import MASK, signed
+
+TERMINAL_NAMES = set(CONTROL_OPS)            # (forth_of: shown by their own names)
 
 # An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
 WIDE_DPL = "wide"
+
+
+def may_store(ins):
+    """May ins, run by its Python function, store to memory or run Python
+    that does (and so change compiled code)?"""
+    if ins.op in ("enter", "exit", "var", "con", "const", "2con"):
+        return False
+    tpl = literal_template(ins) or (ins.prim.template if ins.op == "simple" else None)
+    return tpl is None or bool(tpl.uses & {"W", "m"})
+
+
+def forth_of(m, ins):
+    """The Forth an instruction came from, as a comment shows it: a
+    number for a literal, a word's name for a call, the primitive's name."""
+    op, p = ins.op, ins.prim
+    if op in ("simple", "call") or op in TERMINAL_NAMES:
+        return p.name
+    if op == "literal":
+        lit = p.extra.get("lit")
+        if lit is None:
+            return " ".join([p.name] + [str(a) for a in ins.args if isinstance(a, int)])
+        cells, _ = lit(ins.args)
+        if len(cells) == 2:
+            return str(signed(cells[0]) if cells[1] == 0 else (cells[1] << 16 | cells[0]))
+        return str(signed(cells[0]))
+    name = m.dictionary.name_of(ins.xt)
+    return name if name else "xt %d" % ins.xt
+
+
+def watch_test(line):
+    """(test, call) for a template line `if test: m.watched(a)`, else None."""
+    try:
+        tree = ast.parse(line.strip())
+    except SyntaxError:
+        return None
+    node = tree.body[0] if len(tree.body) == 1 else None
+    if not isinstance(node, ast.If) or node.orelse or len(node.body) != 1:
+        return None
+    call = node.body[0]
+    if not (isinstance(call, ast.Expr) and isinstance(call.value, ast.Call)
+            and ast.unparse(call.value.func) == "m.watched"):
+        return None
+    text = line.strip()
+    return ast.get_source_segment(text, node.test), ast.get_source_segment(text, call)
 
 
 class BlockGen:
@@ -61,6 +110,8 @@ class BlockGen:
         self.fetched = {}        # temp -> the constant address `@` read it from (fetched_xt)
         self.flags = {}          # temp -> (lines, index, test) of a flag a comparison made
         self.handed = {}         # atom -> times take or flush handed it out
+        self.open_rets = []      # return addresses of the pasted calls entered, in the fast path
+        self.at_next = None      # where the instruction being written is followed
 
     # ------------------------------------------------- the data stack as atoms
     def take(self, n, ind):
@@ -97,9 +148,10 @@ class BlockGen:
             if self.dpl_guard:                     # compile_loops.py: steady_dpl
                 self.emit("if _d:", ind)
                 ind += 1
-            for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
-                         (self.m.a_wide, MASK if wide else 0)):
-                self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
+            for a, v, name in ((self.m.a_dpl, MASK if wide else self.dpl & MASK, "DPL"),
+                               (self.m.a_wide, MASK if wide else 0, "WIDE-NUMBER")):
+                self.emit("mem[%d] = %d; mem[%d] = %d  # %s" % (a, v & 0xFF, a + 1, v >> 8, name),
+                          ind, "mem")
             if self.dpl_guard:
                 self.emit("_d = 0", ind)
             self.dpl = None
@@ -152,8 +204,7 @@ class BlockGen:
             self.flush_dpl(ind)
         atoms = self.take(len(tpl.inputs), ind)
         if tpl.stmt:
-            for line in tpl.stmt.fill(atoms).split("\n"):
-                self.emit(line, ind, *tpl.stmt.uses)
+            self.statement(tpl.stmt, atoms, ind)
             if self.dpl_guard and "W" in tpl.stmt.uses:     # a store: see compile_loops.py
                 self.dpl_overwritten(atoms[-1], ind)
         numbers = tpl.stmt is None and all(a.isdigit() for a in atoms)
@@ -173,7 +224,35 @@ class BlockGen:
         if p.name == "I":
             self.index_atom = self.vs[-1]
 
+    def statement(self, stmt, atoms, ind):
+        """A template's statement. A store that hits watched memory calls
+        m.watched, which may drop this very function's code: then the
+        reference loop goes on after the store (stale_check). A statement
+        whose one such call ends it has the check inside that `if`, where
+        nothing is spent unless the store hit; any other, after it."""
+        lines = stmt.fill(atoms).split("\n")
+        watch = [watch_test(line) for line in lines]
+        found = [w for w in watch if w is not None]
+        for n, (line, w) in enumerate(zip(lines, watch)):
+            if w is not None and len(found) == 1 and n == len(lines) - 1 \
+                    and self.at_next is not None:
+                self.emit("if %s:" % w[0], ind, *stmt.uses)
+                self.emit(w[1], ind + 1)
+                self.stale_check_mid(ind + 1)
+            else:
+                self.emit(line, ind, *stmt.uses)
+        if found and (len(found) > 1 or watch[-1] is None) and self.at_next is not None:
+            self.stale_check_mid(ind)
+
+    def stale_check_mid(self, ind):
+        """stale_check in the middle of a block's fast path, clk holding
+        the whole block's cost: m.clock gets what the reference loop would
+        show after this primitive."""
+        clock = "m.clock = clk - %d; clk = -1; " % self.rest if self.rest else "m.clock = clk; clk = -1; "
+        self.stale_check(self.at_next, ind, clock)
+
     def op_simple(self, ins, ind):
+        self.at_next = ins.next
         p, op = ins.prim, ins.op
         # A word set may compile its own primitive (the Locals word set keeps
         # a frame's cells in Python locals: rcl/words/localvars.py); -> True if done.
@@ -190,10 +269,12 @@ class BlockGen:
             if self.rs_unknown:                    # unless Python code ran before it
                 self.call_check(ind)
             self.inlined.append(ins.addr)
+            self.open_rets.append(str(ins.args[0]))
         elif op == "exit":
             self.open_calls -= 1
             if self.inlined:
                 self.inlined.pop()
+                self.open_rets.pop()
         elif op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants
@@ -209,6 +290,7 @@ class BlockGen:
             self.index_atom = None
             self.clock_out(ind)
             self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
+            self.stale_check(ins.next, ind)
             self.clock_in(ind)
         elif op == "var":
             self.vs.append(str(ins.args[0]))
@@ -234,6 +316,7 @@ class BlockGen:
             self.index_atom = None               # Python code may move the loop frame
             self.clock_out(ind)
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
+            self.stale_check(ins.next, ind)
             self.clock_in(ind)
 
     def truth(self, f):
@@ -261,21 +344,23 @@ class BlockGen:
         return None if a is None else self.m.memory.fetch(a)
 
     def slow_entry(self, ins):
-        """(cost, fn, args) for the slow path."""
+        """(cost, fn, args, at, after) for the slow path (compiler.slow):
+        after, where to go on if the primitive may change code, else None."""
         p, op = ins.prim, ins.op
+        after = ins.next if may_store(ins) else None
         if op == "enter":
-            return (ins.cost, rt_enter, ins.args)
+            return (ins.cost, rt_enter, ins.args, ins.addr, after)
         if op == "exit":
-            return (ins.cost, rt_exit, ())
+            return (ins.cost, rt_exit, (), ins.addr, after)
         if op == "literal":
-            return (ins.cost, p.fn, ins.args)
+            return (ins.cost, p.fn, ins.args, ins.addr, after)
         if op == "var":
-            return (ins.cost, rt_push, ins.args)
+            return (ins.cost, rt_push, ins.args, ins.addr, after)
         if op in ("con", "const"):
-            return (ins.cost, rt_con, ins.args)
+            return (ins.cost, rt_con, ins.args, ins.addr, after)
         if op == "2con":
-            return (ins.cost, rt_2con, ins.args)
-        return (ins.cost, p.fn, ())
+            return (ins.cost, rt_2con, ins.args, ins.addr, after)
+        return (ins.cost, p.fn, (), ins.addr, after)
 
     # ------------------------------------------------------ the clock mid-block
     def clock_out(self, ind):

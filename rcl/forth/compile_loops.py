@@ -17,7 +17,8 @@ stack too:
     while True:
         if clk + 2000000 >= m.deadline:       # the usual check, each iteration
             m.clock = clk; clk = -1; rs[-1] = _i; s.append(_c)
-            slow(m, SEQ1, 1000000)            # exact: one primitive at a time
+            _r = slow(m, G, SEQ1)             # exact: one primitive at a time
+            if _r is not None: return _r      # (the code changed: compiler.py)
             clk = m.clock; _i = rs[-1]; _c = s.pop()
         else:
             clk += 3000000
@@ -74,7 +75,8 @@ is one `while` too, its blocks in the shape of the source:
         _w = clk + 6000000 >= m.deadline      # may a check fall due before the next head?
         if _w and clk + 3000000 >= m.deadline:
             m.clock = clk; clk = -1; rs[-1] = _i; s.append(_k0)
-            slow(m, SEQ1, 1000000)            # exact, as in any block
+            _r = slow(m, G, SEQ1)             # exact, as in any block
+            if _r is not None: return _r
             ...                               # then _f and _k0 from the real stack
         else:
             clk += 4000000
@@ -168,16 +170,21 @@ class LoopGen:
                 return False
         return len(values) == 1
 
-    def loop_body(self, ops, plus, ind, carry, steady):
+    def loop_body(self, ops, cost, plus, ind, carry, steady):
         """One iteration's primitives in Python -> (lines, step, carried
-        out), or None when the body does not keep the top of stack."""
+        out), or None when the body does not keep the top of stack (cost:
+        the iteration's, counted at its start)."""
         saved, self.lines = self.lines, []
         self.vs, self.dpl = (["_c"] if carry else []), None
         self.real_stack, self.in_loop, self.carried_used = False, True, False
         self.index_atom, self.open_calls, self.rs_unknown = None, 0, False
+        self.open_rets = []
         self.dpl_guard = steady      # (steady_dpl: the fast path stores DPL while _d says so)
-        for i in ops:                # (no Python primitive here: `rest` stays 0)
+        self.rest = cost             # (for a store that changes the code: stale_check)
+        for i in ops:
+            self.rest -= i.cost
             self.op_simple(i, ind)
+        self.rest = 0
         step = self.take(1, ind)[0] if plus else None
         self.flush_dpl(ind)
         self.dpl_guard = False
@@ -196,12 +203,11 @@ class LoopGen:
     def loop_block(self, k, ops, term, ind):
         pre = sum(i.cost for i in ops)
         plus = term.op == "(+LOOP)"
-        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         steady = self.steady_dpl(ops, stores=True)
-        body = self.loop_body(ops, plus, ind + 2, True, steady)
+        body = self.loop_body(ops, pre + term.cost, plus, ind + 2, True, steady)
         carry = body is not None
         if not carry:
-            body = self.loop_body(ops, plus, ind + 2, False, steady)
+            body = self.loop_body(ops, pre + term.cost, plus, ind + 2, False, steady)
         lines, step, out = body
         self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
         if carry:
@@ -212,7 +218,7 @@ class LoopGen:
         self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 1)
         self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
                   ind + 2, "s")
-        self.emit("slow(m, %s, %d)" % (seq, term.cost), ind + 2)
+        self.slow_path(ops, term, term.cost, ind + 2)
         self.emit("clk = m.clock; _i = rs[-1]" + ("; _n = s.pop()" if plus else "")
                   + ("; _c = s.pop()" if carry else "") + ("; _d = 1" if steady else ""), ind + 2)
         self.emit("else:", ind + 1)
@@ -258,7 +264,8 @@ class LoopGen:
         else:                   # jumps that cross: from block to block through guards
             self.shaped = False
             for k in range(r.first, r.last + 1):
-                self.emit("if b <= %d:   # %04X" % (k, blocks[k][0]), ind + 1)
+                a = blocks[k][0]
+                self.emit("if b <= %d:   # %04X  %s" % (k, a, self.forth[a]), ind + 1)
                 self.region_block(r, k, blocks[k], ind + 2)
         self.emit("break", ind + 1)
         self.dpl_guard = False
@@ -276,7 +283,8 @@ class LoopGen:
         for node in nodes:
             kind = node[0]
             if kind == "block":
-                self.emit("# %04X" % blocks[node[1]][0], ind)
+                a = blocks[node[1]][0]
+                self.emit("# %04X  %s" % (a, self.forth[a]), ind)
                 self.region_block(r, node[1], blocks[node[1]], ind)
             elif kind == "if":
                 self.emit("if _f:", ind)
@@ -302,14 +310,12 @@ class LoopGen:
         _, ops, term, self.next_addr = block
         pre = sum(i.cost for i in ops)
         tcost = term.cost if term is not None else 0
-        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         if k in r.heads:
             self.emit("_w = clk + %d >= m.deadline" % r.heads[k], ind)
         self.emit("if _w and clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
         cells = ["_k%d" % i for i in range(r.carry[k])]
         self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + push(cells), ind + 1, "s")
-        self.emit("slow(m, %s, %d)" % (seq, tcost) if term is not None else "slow(m, %s)" % seq,
-                  ind + 1)
+        self.slow_path(ops, term, tcost, ind + 1)
         self.clock_in(ind + 1)
         if self.dpl_guard:                # (a handler may have changed DPL)
             self.emit("_d = 1", ind + 1)
