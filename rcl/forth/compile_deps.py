@@ -24,6 +24,10 @@ KEEP_OTHERS = 0xFF & ~WATCH_CODE
 
 class CodeDeps:
     """The functions of one machine's m.fn and the bytes each rests on."""
+    __slots__ = ("by_byte", "funcs")
+
+    def __reduce__(self):
+        return CodeDeps, ()      # compiled code is never saved (a snapshot has none)
 
     def __init__(self):
         self.by_byte = {}        # address -> entries of the functions resting on it
