@@ -41,9 +41,17 @@ from rcl.forth.decode import (keeps_rs, literal_template, rs_growth, rt_2con, rt
                               rt_enter, rt_exit)
 from rcl.forth.inner import RSTACK_CELLS, rt_push
 from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.forth.control import INDEX, LIMIT, frame_cell, index_of
 from rcl.forth.memory import MASK, signed
 
 TERMINAL_NAMES = set(CONTROL_OPS)            # (forth_of: shown by their own names)
+
+# A DO loop run as a Python while keeps its frame's index' and limit' in
+# _i and _lim (compile_loops.py): these lines move them, I is computed so.
+LOAD_FRAME = "_lim = %s; _i = %s" % (frame_cell(LIMIT), frame_cell(INDEX))
+STORE_INDEX = "%s = _i" % frame_cell(INDEX)
+LOAD_INDEX = "_i = %s" % frame_cell(INDEX)
+I_LOCAL = index_of("_i", "_lim")
 
 # An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
 WIDE_DPL = "wide"
@@ -194,7 +202,7 @@ class BlockGen:
             return
         if self.in_loop and p.name == "I":       # the index is in locals (compile_loops.py)
             t = self.temp()
-            self.emit("%s = (_i + _lim) & 0xFFFF" % t, ind)
+            self.emit("%s = %s" % (t, I_LOCAL), ind)
             self.vs.append(t)
             self.index_atom = t
             return

@@ -120,7 +120,8 @@ control.goes_on instead of calling LOOP_STEP. Where loop_shape cannot find
 a shape (jumps that cross), the blocks are gone through with guards
 `if b <= k` inside the while, as in the rest of a definition.
 """
-from rcl.forth.control import goes_on
+from rcl.forth.compile_block import I_LOCAL, LOAD_FRAME, LOAD_INDEX, STORE_INDEX
+from rcl.forth.control import DROP_FRAME, goes_on
 from rcl.forth.decode import NO_TERMINATOR, literal_template
 from rcl.forth.loop_shape import find_regions, loop_op, shape
 
@@ -209,17 +210,17 @@ class LoopGen:
         if not carry:
             body = self.loop_body(ops, pre + term.cost, plus, ind + 2, False, steady)
         lines, step, out = body
-        self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
+        self.emit(LOAD_FRAME, ind, "rs")
         if carry:
             self.emit("_c = s.pop()", ind, "s")
         if steady:
             self.emit("_d = 1", ind)
         self.emit("while True:", ind)
         self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 1)
-        self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
+        self.emit("m.clock = clk; clk = -1; " + STORE_INDEX + ("; s.append(_c)" if carry else ""),
                   ind + 2, "s")
         self.slow_path(ops, term, term.cost, ind + 2)
-        self.emit("clk = m.clock; _i = rs[-1]" + ("; _n = s.pop()" if plus else "")
+        self.emit("clk = m.clock; " + LOAD_INDEX + ("; _n = s.pop()" if plus else "")
                   + ("; _c = s.pop()" if carry else "") + ("; _d = 1" if steady else ""), ind + 2)
         self.emit("else:", ind + 1)
         self.emit("clk += %d" % (pre + term.cost), ind + 2)
@@ -232,7 +233,7 @@ class LoopGen:
         self.emit("break", ind + 1)
         if carry:
             self.emit("s.append(_c)", ind)
-        self.emit("del rs[-3:]", ind)
+        self.emit(DROP_FRAME, ind)
         self.goto_next(k, term.next, ind)
 
     def find_regions(self, blocks):
@@ -243,14 +244,14 @@ class LoopGen:
         """The Python while of Region r (see the module's docstring)."""
         self.inner.update(blocks[k][0] for k in range(r.first + 1, r.last + 1))
         cells = ["_k%d" % i for i in range(r.carry[r.first])]
-        self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
+        self.emit(LOAD_FRAME, ind, "rs")
         if cells:               # a short stack: the reference loop runs it, to its underflow
             self.emit("if len(s) < %d:" % len(cells), ind, "s")
             self.emit("m.clock = clk; clk = -1; return m.run_from(%d, d0)" % blocks[r.first][0],
                       ind + 1, "d0")
             self.emit("; ".join("%s = s.pop()" % c for c in reversed(cells)), ind)
         if r.uses_i:
-            self.emit("_I = (_i + _lim) & 0xFFFF", ind)
+            self.emit("_I = " + I_LOCAL, ind)
         self.dpl_guard = self.steady_dpl([i for k in range(r.first, r.last + 1)
                                           for i in blocks[k][1]], stores=True)
         if self.dpl_guard:
@@ -269,7 +270,7 @@ class LoopGen:
                 self.region_block(r, k, blocks[k], ind + 2)
         self.emit("break", ind + 1)
         self.dpl_guard = False
-        self.emit("del rs[-3:]" + push(cells), ind)
+        self.emit(DROP_FRAME + push(cells), ind)
         self.goto_next(r.last, blocks[r.last][2].next, ind)
 
     def jump_of(self, term):
@@ -314,7 +315,7 @@ class LoopGen:
             self.emit("_w = clk + %d >= m.deadline" % r.heads[k], ind)
         self.emit("if _w and clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
         cells = ["_k%d" % i for i in range(r.carry[k])]
-        self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + push(cells), ind + 1, "s")
+        self.emit("m.clock = clk; clk = -1; " + STORE_INDEX + push(cells), ind + 1, "s")
         self.slow_path(ops, term, tcost, ind + 1)
         self.clock_in(ind + 1)
         if self.dpl_guard:                # (a handler may have changed DPL)
@@ -367,7 +368,7 @@ class LoopGen:
             self.emit("_n = %s" % n, ind)
             n = "_n"
         self.flush(ind)
-        on = ("; _I = (_i + _lim) & 0xFFFF" if r.uses_i else "") + "; " + (
+        on = ("; _I = " + I_LOCAL if r.uses_i else "") + "; " + (
             "continue" if self.shaped else "b = %d; continue" % r.first)
         self.step_index(n, on, ind)
 

@@ -111,7 +111,7 @@ from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import HELPERS, REGISTRY
 from rcl.forth.compile_block import WIDE_DPL, BlockGen, forth_of  # noqa: F401 (WIDE_DPL: core.py)
 from rcl.forth.compile_loops import LoopGen
-from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
 from rcl.forth.decode import NO_TERMINATOR, TERMINATORS, call_depth, decode, walk  # noqa: F401
 from rcl.forth.inner import (COMPILED, CONTROL, N, RSTACK_CELLS,  # (decode: for SEE)
                              decode_args)
@@ -194,7 +194,7 @@ def resume(m, ip, cells=(), index=None, rs_cells=()):
     pasted into the block, on the return stack), and the reference loop
     runs on from ip (-> what its EXIT returns, as a call's function does)."""
     if index is not None:
-        m.rs[-1] = index
+        m.rs[INDEX] = index
     m.rs.extend(rs_cells)
     m.s.extend(cells)
     return m.run_from(ip)
