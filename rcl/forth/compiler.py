@@ -109,8 +109,9 @@ import types
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import HELPERS, REGISTRY
-from rcl.forth.compile_block import WIDE_DPL, BlockGen, forth_of  # noqa: F401 (WIDE_DPL: core.py)
-from rcl.forth.compile_loops import LoopGen
+from rcl.forth.compile_block import (WIDE_DPL, BlockGen, BlockState,  # noqa: F401 (WIDE_DPL:
+                                     forth_of)                          # core.py)
+from rcl.forth.compile_loops import LoopGen, LoopState
 from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
 from rcl.forth.decode import NO_TERMINATOR, TERMINATORS, call_depth, decode, walk  # noqa: F401
 from rcl.forth.inner import (COMPILED, CONTROL, N, RSTACK_CELLS,  # (decode: for SEE)
@@ -216,9 +217,8 @@ class Gen(BlockGen, LoopGen):
         self.ntemp = 0
         self.uses = set()
         self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
-        self.docol_checked = False   # the block's check covered its call's (DOCOL) (block)
         self.inner = set()           # blocks inside a loop's while: no way in for LEAVE
-        self.inlined = []            # call cells of the inlined calls being pasted
+        self.lp = LoopState()        # (not in a loop)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -234,8 +234,8 @@ class Gen(BlockGen, LoopGen):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
         self.saw_line(ind, uses)
-        if self.inlined:             # for a backtrace (wordloc.py): the calls pasted here
-            line += "  %s%s" % (INLINED, " ".join(map(str, self.inlined)))
+        if self.blk.inlined:             # for a backtrace (wordloc.py): the calls pasted here
+            line += "  %s%s" % (INLINED, " ".join(map(str, self.blk.inlined)))
         self.lines.append("    " * ind + line)
         self.uses.update(uses)
 
@@ -288,13 +288,13 @@ class Gen(BlockGen, LoopGen):
         locals frame, the return addresses of pasted calls) goes where the
         reference loop keeps it first (`resume`). clock: the statement
         that makes m.clock the truth, if clk still is."""
-        cells = list(self.vs)
+        cells = list(self.blk.vs)
         for a in cells:                        # (a flag handed on is made)
             self.handed[a] = self.handed.get(a, 0) + 1
-        rs_cells = list(self.rs_known or ()) if self.rs_pending else []
-        rs_cells += self.open_rets
-        index = "_i" if self.in_loop or self.carrying else None
-        if self.dpl is not None:               # (none is pending where checks are made)
+        rs_cells = list(self.blk.rs_known or ()) if self.blk.rs_pending else []
+        rs_cells += self.blk.open_rets
+        index = "_i" if self.lp.index_in_locals else None
+        if self.blk.dpl is not None:               # (none is pending where checks are made)
             raise AssertionError("a DPL pending at a stale check")
         if not (cells or rs_cells or index):
             self.emit("if STALE: %sreturn m.run_from(%d)" % (clock, ip), ind)
@@ -347,7 +347,7 @@ class Gen(BlockGen, LoopGen):
         the cell `@` read); if that is a colon word, x is compared with it
         first and its body called by number (its code field is watched)."""
         docol = self.m.cost[DOCOL_N]
-        due = "" if self.docol_checked else " and clk < m.deadline"
+        due = "" if self.blk.docol_checked else " and clk < m.deadline"
         colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0%s" % (x, DOCOL_N, x, due)
         if guess is not None and self.m.memory.fetch(guess) == DOCOL_N:
             # (FN has the body only while compiled code stands: once a store
@@ -386,25 +386,22 @@ class Gen(BlockGen, LoopGen):
         # everything else, DEFER included, costs its own cell here.
         through_call = term.op == "bad" or (term.op == "call" and term.prim.kind == "runtime")
         tcost = 0 if term.op is None or through_call else term.cost
-        self.index_atom = None
         # EXECUTE and DEFER call at the boundary after their own cell, the
         # callee's (DOCOL): the fast path checks that one too, at the start
         # (the deadline moves only in Python code, which ends a block).
-        self.docol_checked = term.op in ("EXECUTE", "defer")
-        ahead = tcost if self.docol_checked else 0
+        docol = term.op in ("EXECUTE", "defer")
+        ahead = tcost if docol else 0
         self.emit("if clk + %d >= m.deadline%s:" % (pre + ahead, self.depth_check(ops)), ind)
         self.clock_out(ind + 1)
         self.slow_path(ops, None if term.op is None or through_call else term, tcost, ind + 1)
         self.clock_in(ind + 1)
-        self.vs, self.dpl, self.rs_known = [], None, None
-        checked, self.docol_checked = self.docol_checked, False
+        self.blk = BlockState()
         self.terminator(term, k, ind + 1)
-        self.docol_checked = checked
         self.emit("else:", ind)
-        self.vs, self.dpl, self.index_atom, self.rs_known = [], None, None, None
+        self.blk = BlockState(docol_checked=docol)
         self.fast_ops(ops, pre + tcost, ind + 1)
         self.terminator(term, k, ind + 1)
-        self.docol_checked = False
+        self.blk = BlockState()
 
     def slow_path(self, ops, term, tcost, ind):
         """`slow` runs the block's primitives one at a time, then term's
@@ -420,12 +417,11 @@ class Gen(BlockGen, LoopGen):
         """The fast path's body: the block's whole cost at once, then its
         primitives pasted (op_simple), `rest` the cost still ahead of each."""
         self.emit("clk += %d" % cost, ind)
-        self.open_calls, self.rs_unknown, self.open_rets = 0, False, []
-        self.rest = cost
+        self.blk.rest = cost
         for i in ops:
-            self.rest -= i.cost
+            self.blk.rest -= i.cost
             self.op_simple(i, ind)
-        self.rest = 0
+        self.blk.rest = 0
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
