@@ -34,6 +34,13 @@ stack's `vs`: its cells stay Python names (`rs_known`) and the line that
 pushes them (`rs_pending`) is emitted only before something that may look
 at the return stack (`forget_rs`). `slow_entry` gives the same
 instruction's (cost, function, arguments) for the exact slow path.
+
+All the generator knows on one path through a block (the atoms in `vs`, a
+DPL not yet stored, the locals frame, the pasted calls still open, the
+clock still ahead) is a `BlockState`, `self.blk`, made fresh for each
+path; a Python while's is a `LoopState`, `self.lp` (compile_loops.py).
+A store that hits compiled code may change the very code being run: the
+line after it checks (`statement`, compiler.py's `stale_check`).
 """
 import ast
 
