@@ -160,10 +160,9 @@ class Dictionary:
         c = self.cache.get(wid)
         if c is None or c[0] != old_head or c[1] != self.generation:
             return
-        table, mem = c[2], self.memory.mem
+        table = c[2]
         for lfa in gone:
-            count = mem[(lfa - 1) & MASK]
-            name = self.name_of((lfa + 2) & MASK) if count & 0x80 else None
+            name = self.name_of((lfa + 2) & MASK)
             lfas = table.get(name)
             if lfas and lfa in lfas:
                 lfas.remove(lfa)
