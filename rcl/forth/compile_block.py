@@ -34,51 +34,140 @@ stack's `vs`: its cells stay Python names (`rs_known`) and the line that
 pushes them (`rs_pending`) is emitted only before something that may look
 at the return stack (`forget_rs`). `slow_entry` gives the same
 instruction's (cost, function, arguments) for the exact slow path.
+
+All the generator knows on one path through a block (the atoms in `vs`, a
+DPL not yet stored, the locals frame, the pasted calls still open, the
+clock still ahead) is a `BlockState`, `self.blk`, made fresh for each
+path; a Python while's is a `LoopState`, `self.lp` (compile_loops.py).
+A store that hits compiled code may change the very code being run: the
+line after it checks (`statement`, compiler.py's `stale_check`).
 """
+import ast
+
 from rcl.forth.decode import (keeps_rs, literal_template, rs_growth, rt_2con, rt_con,
                               rt_enter, rt_exit)
 from rcl.forth.inner import RSTACK_CELLS, rt_push
-from rcl.forth.memory import MASK
+from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.forth.control import INDEX, LIMIT, frame_cell, index_of
+from rcl.forth.memory import MASK, signed
+
+TERMINAL_NAMES = set(CONTROL_OPS)            # (forth_of: shown by their own names)
+
+# A DO loop run as a Python while keeps its frame's index' and limit' in
+# _i and _lim (compile_loops.py): these lines move them, I is computed so.
+LOAD_FRAME = "_lim = %s; _i = %s" % (frame_cell(LIMIT), frame_cell(INDEX))
+STORE_INDEX = "%s = _i" % frame_cell(INDEX)
+LOAD_INDEX = "_i = %s" % frame_cell(INDEX)
+I_LOCAL = index_of("_i", "_lim")
 
 # An RCL literal typed beyond a signed cell: DPL -1 and WIDE-NUMBER on.
 WIDE_DPL = "wide"
 
 
+def may_store(ins):
+    """May ins, run by its Python function, store to memory or run Python
+    that does (and so change compiled code)?"""
+    if ins.op in ("enter", "exit", "var", "con", "const", "2con"):
+        return False
+    tpl = literal_template(ins) or (ins.prim.template if ins.op == "simple" else None)
+    return tpl is None or bool(tpl.uses & {"W", "m"})
+
+
+def forth_of(m, ins):
+    """The Forth an instruction came from, as a comment shows it: a
+    number for a literal, a word's name for a call, the primitive's name."""
+    op, p = ins.op, ins.prim
+    if op in ("simple", "call") or op in TERMINAL_NAMES:
+        return p.name
+    if op == "literal":
+        lit = p.extra.get("lit")
+        if lit is None:
+            return " ".join([p.name] + [str(a) for a in ins.args if isinstance(a, int)])
+        cells, _ = lit(ins.args)
+        if len(cells) == 2:
+            return str(signed(cells[0]) if cells[1] == 0 else (cells[1] << 16 | cells[0]))
+        return str(signed(cells[0]))
+    name = m.dictionary.name_of(ins.xt)
+    return name if name else "xt %d" % ins.xt
+
+
+def watch_test(line):
+    """(test, call) for a template line `if test: m.watched(a)`, else None."""
+    try:
+        tree = ast.parse(line.strip())
+    except SyntaxError:
+        return None
+    node = tree.body[0] if len(tree.body) == 1 else None
+    if not isinstance(node, ast.If) or node.orelse or len(node.body) != 1:
+        return None
+    call = node.body[0]
+    if not (isinstance(call, ast.Expr) and isinstance(call.value, ast.Call)
+            and ast.unparse(call.value.func) == "m.watched"):
+        return None
+    text = line.strip()
+    return ast.get_source_segment(text, node.test), ast.get_source_segment(text, call)
+
+
+class BlockState:
+    """What the code generator knows on one path through a block (its fast
+    path, or the terminator after its slow path): made fresh for each."""
+    __slots__ = ("vs", "dpl", "index_atom", "rest", "rs_known", "rs_pending", "open_calls",
+                 "rs_unknown", "last_pop", "open_rets", "inlined", "at_next", "docol_checked")
+
+    def __init__(self, vs=(), rest=0, index_atom=None, docol_checked=False):
+        self.vs = list(vs)           # atoms standing for the top data-stack cells
+        self.dpl = None              # a literal's DPL not yet stored
+        self.index_atom = index_atom  # the atom holding I, while the loop frame stays put
+        self.rest = rest             # clock units clk holds beyond the primitive being emitted
+        self.rs_known = None         # atoms known to be the top return-stack cells (locals)
+        self.rs_pending = None       # a line pushing them, not yet emitted (see forget_rs)
+        self.open_calls = 0          # inlined calls entered and not left, in the fast path
+        self.rs_unknown = False      # Python code ran in this block: see call_check
+        self.last_pop = None         # (lines, index, temp, indent) of a pop flush may make a peek
+        self.open_rets = []          # return addresses of the inlined calls entered
+        self.inlined = []            # their call cells (the backtrace's note, compiler.INLINED)
+        self.at_next = None          # where the instruction being written is followed
+        self.docol_checked = docol_checked   # the block's check covered its call's (DOCOL)
+
+
 class BlockGen:
-    """Mixed into the compiler's Gen: the state and code of one block."""
+    """Mixed into the compiler's Gen: the code of one block. The state of
+    the path being written is `blk` (a BlockState); the function's own,
+    about its temps, is here."""
 
     def __init__(self):
-        self.vs = []             # atoms standing for the top data-stack cells
-        self.dpl = None          # a literal's DPL not yet stored
-        self.dpl_guard = False   # in a loop whose stores repeat: `_d` says if memory needs them
-        self.index_atom = None   # the temp holding I, while the loop frame stays put
-        self.rest = 0            # clock units clk holds beyond the primitive being emitted
-        self.rs_known = None     # atoms known to be the top return-stack cells (locals)
-        self.rs_pending = None   # a line pushing them, not yet emitted (see forget_rs)
-        self.open_calls = 0      # inlined calls entered and not left, in the fast path
-        self.rs_unknown = False  # Python code ran in this block: see call_check
-        self.last_pop = None     # (lines, index, temp, indent) of a pop flush may make a peek
+        self.blk = BlockState()
         self.fetched = {}        # temp -> the constant address `@` read it from (fetched_xt)
         self.flags = {}          # temp -> (lines, index, test) of a flag a comparison made
         self.handed = {}         # atom -> times take or flush handed it out
+
+    # The Locals word set's compile hooks (rcl/words/localvars.py) read and
+    # set these on the generator.
+    vs = property(lambda self: self.blk.vs, lambda self, v: setattr(self.blk, "vs", v))
+    rs_known = property(lambda self: self.blk.rs_known,
+                        lambda self, v: setattr(self.blk, "rs_known", v))
+    rs_pending = property(lambda self: self.blk.rs_pending,
+                          lambda self, v: setattr(self.blk, "rs_pending", v))
+    index_atom = property(lambda self: self.blk.index_atom,
+                          lambda self, v: setattr(self.blk, "index_atom", v))
 
     # ------------------------------------------------- the data stack as atoms
     def take(self, n, ind):
         """n input atoms, deepest first, loading from the real stack."""
         if n == 0:
             return []
-        have = self.vs[-n:] if n <= len(self.vs) else list(self.vs)
+        have = self.blk.vs[-n:] if n <= len(self.blk.vs) else list(self.blk.vs)
         if have and have[0] == "_c":              # a loop's carried top of stack
-            self.carried_used = True
-        del self.vs[len(self.vs) - len(have):]
+            self.lp.carried_used = True
+        del self.blk.vs[len(self.blk.vs) - len(have):]
         for a in have:
             self.handed[a] = self.handed.get(a, 0) + 1
         loaded = []
         for _ in range(n - len(have)):
             t = self.temp()
             self.emit("%s = s.pop()" % t, ind, "s")
-            self.last_pop = (self.lines, len(self.lines) - 1, t, ind)
-            self.real_stack = True
+            self.blk.last_pop = (self.lines, len(self.lines) - 1, t, ind)
+            self.lp.real_stack = True
             loaded.insert(0, t)
         return loaded + have
 
@@ -86,23 +175,24 @@ class BlockGen:
         """(From emit.) A line that looks at the real stack, or one less
         indented than the last pop (another path), ends what flush may
         rewrite (`last_pop`)."""
-        if self.last_pop is not None and ("s" in uses or ind < self.last_pop[3]):
-            self.last_pop = None
+        if self.blk.last_pop is not None and ("s" in uses or ind < self.blk.last_pop[3]):
+            self.blk.last_pop = None
 
     def flush_dpl(self, ind):
         """An RCL literal's DPL (and WIDE-NUMBER) is stored only when a word
         that may read them comes next."""
-        if self.dpl is not None:
-            wide = self.dpl == WIDE_DPL
-            if self.dpl_guard:                     # compile_loops.py: steady_dpl
+        if self.blk.dpl is not None:
+            wide = self.blk.dpl == WIDE_DPL
+            if self.lp.dpl_guard:                     # compile_loops.py: steady_dpl
                 self.emit("if _d:", ind)
                 ind += 1
-            for a, v in ((self.m.a_dpl, MASK if wide else self.dpl & MASK),
-                         (self.m.a_wide, MASK if wide else 0)):
-                self.emit("mem[%d] = %d; mem[%d] = %d" % (a, v & 0xFF, a + 1, v >> 8), ind, "mem")
-            if self.dpl_guard:
+            for a, v, name in ((self.m.a_dpl, MASK if wide else self.blk.dpl & MASK, "DPL"),
+                               (self.m.a_wide, MASK if wide else 0, "WIDE-NUMBER")):
+                self.emit("mem[%d] = %d; mem[%d] = %d  # %s" % (a, v & 0xFF, a + 1, v >> 8, name),
+                          ind, "mem")
+            if self.lp.dpl_guard:
                 self.emit("_d = 0", ind)
-            self.dpl = None
+            self.blk.dpl = None
 
     def flush(self, ind, rewrite=True):
         """Write vs back. When the last line that touched the real stack
@@ -111,25 +201,25 @@ class BlockGen:
         (`s[-1] = x`, nothing when it is t) instead of a pop and a push.
         rewrite=False: a flush on a side path only (call_check)."""
         self.flush_dpl(ind)
-        last, self.last_pop = self.last_pop, None
-        for a in self.vs:
+        last, self.blk.last_pop = self.blk.last_pop, None
+        for a in self.blk.vs:
             self.handed[a] = self.handed.get(a, 0) + 1
-        if self.carrying:                          # inside a loop of several blocks
+        if self.lp.carrying:                          # inside a loop of several blocks
             return self.carry_out(ind)             # (compile_loops.py)
-        if self.vs:
-            self.real_stack = True
-        if rewrite and last is not None and last[3] == ind and self.vs:
+        if self.blk.vs:
+            self.lp.real_stack = True
+        if rewrite and last is not None and last[3] == ind and self.blk.vs:
             lines, i, t, at = last
             note = lines[i].partition("  # ")[1:]       # (an inlined call's note stays)
             lines[i] = "    " * at + "%s = s[-1]" % t + "".join(note)
-            if self.vs[0] != t:
-                self.emit("s[-1] = %s" % self.vs[0], ind, "s")
-            del self.vs[0]
-        if len(self.vs) == 1:
-            self.emit("s.append(%s)" % self.vs[0], ind, "s")
-        elif self.vs:
-            self.emit("s.extend((%s))" % ", ".join(self.vs), ind, "s")
-        self.vs = []
+            if self.blk.vs[0] != t:
+                self.emit("s[-1] = %s" % self.blk.vs[0], ind, "s")
+            del self.blk.vs[0]
+        if len(self.blk.vs) == 1:
+            self.emit("s.append(%s)" % self.blk.vs[0], ind, "s")
+        elif self.blk.vs:
+            self.emit("s.extend((%s))" % ", ".join(self.blk.vs), ind, "s")
+        self.blk.vs = []
 
     # --------------------------------------------------------- simple ops
     def op_inline(self, p, ind, tpl=None):
@@ -137,43 +227,70 @@ class BlockGen:
         inline cells): inputs taken as atoms, outputs kept as atoms; an
         output over numbers only is computed now (folded)."""
         tpl = tpl or p.template
-        if p.name == "I" and self.index_atom is not None:   # I again: the same value
-            self.vs.append(self.index_atom)
+        if p.name == "I" and self.blk.index_atom is not None:   # I again: the same value
+            self.blk.vs.append(self.blk.index_atom)
             return
-        if self.in_loop and p.name == "I":       # the index is in locals (compile_loops.py)
+        if self.lp.in_loop and p.name == "I":       # the index is in locals (compile_loops.py)
             t = self.temp()
-            self.emit("%s = (_i + _lim) & 0xFFFF" % t, ind)
-            self.vs.append(t)
-            self.index_atom = t
+            self.emit("%s = %s" % (t, I_LOCAL), ind)
+            self.blk.vs.append(t)
+            self.blk.index_atom = t
             return
         if "rs" in tpl.uses and p.name not in ("I", "J"):
-            self.index_atom = None               # the loop frame may have moved
+            self.blk.index_atom = None               # the loop frame may have moved
         if p.touches_memory:
             self.flush_dpl(ind)
         atoms = self.take(len(tpl.inputs), ind)
         if tpl.stmt:
-            for line in tpl.stmt.fill(atoms).split("\n"):
-                self.emit(line, ind, *tpl.stmt.uses)
-            if self.dpl_guard and "W" in tpl.stmt.uses:     # a store: see compile_loops.py
+            self.statement(tpl.stmt, atoms, ind)
+            if self.lp.dpl_guard and "W" in tpl.stmt.uses:     # a store: see compile_loops.py
                 self.dpl_overwritten(atoms[-1], ind)
         numbers = tpl.stmt is None and all(a.isdigit() for a in atoms)
         for o in tpl.outputs:
             if o.input is not None:
-                self.vs.append(atoms[o.input])
+                self.blk.vs.append(atoms[o.input])
             elif numbers and o.fold is not None:
-                self.vs.append(str(o.fold(*map(int, atoms))))
+                self.blk.vs.append(str(o.fold(*map(int, atoms))))
             else:
                 t = self.temp()
                 self.emit("%s = %s" % (t, o.fill(atoms)), ind, *o.uses)
-                self.vs.append(t)
+                self.blk.vs.append(t)
                 if p.name == "@" and atoms[0].isdigit():
                     self.fetched[t] = int(atoms[0])
                 if o.test is not None:
                     self.flags[t] = (self.lines, len(self.lines) - 1, o.test.fill(atoms))
         if p.name == "I":
-            self.index_atom = self.vs[-1]
+            self.blk.index_atom = self.blk.vs[-1]
+
+    def statement(self, stmt, atoms, ind):
+        """A template's statement. A store that hits watched memory calls
+        m.watched, which may drop this very function's code: then the
+        reference loop goes on after the store (stale_check). A statement
+        whose one such call ends it has the check inside that `if`, where
+        nothing is spent unless the store hit; any other, after it."""
+        lines = stmt.fill(atoms).split("\n")
+        watch = [watch_test(line) for line in lines]
+        found = [w for w in watch if w is not None]
+        for n, (line, w) in enumerate(zip(lines, watch)):
+            if w is not None and len(found) == 1 and n == len(lines) - 1 \
+                    and self.blk.at_next is not None:
+                self.emit("if %s:" % w[0], ind, *stmt.uses)
+                self.emit(w[1], ind + 1)
+                self.stale_check_mid(ind + 1)
+            else:
+                self.emit(line, ind, *stmt.uses)
+        if found and (len(found) > 1 or watch[-1] is None) and self.blk.at_next is not None:
+            self.stale_check_mid(ind)
+
+    def stale_check_mid(self, ind):
+        """stale_check in the middle of a block's fast path, clk holding
+        the whole block's cost: m.clock gets what the reference loop would
+        show after this primitive."""
+        clock = "m.clock = clk - %d; clk = -1; " % self.blk.rest if self.blk.rest else "m.clock = clk; clk = -1; "
+        self.stale_check(self.blk.at_next, ind, clock)
 
     def op_simple(self, ins, ind):
+        self.blk.at_next = ins.next
         p, op = ins.prim, ins.op
         # A word set may compile its own primitive (the Locals word set keeps
         # a frame's cells in Python locals: rcl/words/localvars.py); -> True if done.
@@ -184,36 +301,39 @@ class BlockGen:
         if not keeps_rs(ins, tpl):
             self.forget_rs(ind)
         if rs_growth(ins) is None:
-            self.rs_unknown = True
+            self.blk.rs_unknown = True
         if op == "enter":                          # an inlined call (decode.py): the
-            self.open_calls += 1                   # block's check saw the depth it needs,
-            if self.rs_unknown:                    # unless Python code ran before it
+            self.blk.open_calls += 1                   # block's check saw the depth it needs,
+            if self.blk.rs_unknown:                    # unless Python code ran before it
                 self.call_check(ind)
-            self.inlined.append(ins.addr)
+            self.blk.inlined.append(ins.addr)
+            self.blk.open_rets.append(str(ins.args[0]))
         elif op == "exit":
-            self.open_calls -= 1
-            if self.inlined:
-                self.inlined.pop()
+            self.blk.open_calls -= 1
+            if self.blk.inlined:
+                self.blk.inlined.pop()
+                self.blk.open_rets.pop()
         elif op == "literal":
             lit = p.extra.get("lit")
             if lit is not None:                    # numbers: pushed as constants
                 cells, dpl = lit(ins.args)
-                self.vs.extend(str(c) for c in cells)
+                self.blk.vs.extend(str(c) for c in cells)
                 if dpl is not None:
-                    self.dpl = dpl
+                    self.blk.dpl = dpl
                 return
             if tpl is not None:                    # made from the inline cells
                 self.op_inline(p, ind, tpl)
                 return
             self.flush(ind)
-            self.index_atom = None
+            self.blk.index_atom = None
             self.clock_out(ind)
             self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
+            self.stale_check(ins.next, ind)
             self.clock_in(ind)
         elif op == "var":
-            self.vs.append(str(ins.args[0]))
+            self.blk.vs.append(str(ins.args[0]))
         elif op == "const":                        # its cell is watched (decode.py)
-            self.vs.append(str(self.m.memory.fetch(ins.args[0])))
+            self.blk.vs.append(str(self.m.memory.fetch(ins.args[0])))
         elif op in ("con", "2con"):
             self.flush_dpl(ind)
             a = ins.args[0]
@@ -221,19 +341,20 @@ class BlockGen:
             if op == "con":
                 t = self.temp()
                 self.emit("%s = %s" % (t, cell % (a, (a + 1) & MASK)), ind, "mem")
-                self.vs.append(t)
+                self.blk.vs.append(t)
             else:
                 lo, hi = self.temp(), self.temp()
                 self.emit("%s = %s" % (lo, cell % ((a + 2) & MASK, (a + 3) & MASK)), ind, "mem")
                 self.emit("%s = %s" % (hi, cell % (a, (a + 1) & MASK)), ind)
-                self.vs.extend((lo, hi))
+                self.blk.vs.extend((lo, hi))
         elif p.template is not None:
             self.op_inline(p, ind)
         else:
             self.flush(ind)
-            self.index_atom = None               # Python code may move the loop frame
+            self.blk.index_atom = None               # Python code may move the loop frame
             self.clock_out(ind)
             self.emit("%s(m)" % self.const(p.fn, "P"), ind)
+            self.stale_check(ins.next, ind)
             self.clock_in(ind)
 
     def truth(self, f):
@@ -261,21 +382,23 @@ class BlockGen:
         return None if a is None else self.m.memory.fetch(a)
 
     def slow_entry(self, ins):
-        """(cost, fn, args) for the slow path."""
+        """(cost, fn, args, at, after) for the slow path (compiler.slow):
+        after, where to go on if the primitive may change code, else None."""
         p, op = ins.prim, ins.op
+        after = ins.next if may_store(ins) else None
         if op == "enter":
-            return (ins.cost, rt_enter, ins.args)
+            return (ins.cost, rt_enter, ins.args, ins.addr, after)
         if op == "exit":
-            return (ins.cost, rt_exit, ())
+            return (ins.cost, rt_exit, (), ins.addr, after)
         if op == "literal":
-            return (ins.cost, p.fn, ins.args)
+            return (ins.cost, p.fn, ins.args, ins.addr, after)
         if op == "var":
-            return (ins.cost, rt_push, ins.args)
+            return (ins.cost, rt_push, ins.args, ins.addr, after)
         if op in ("con", "const"):
-            return (ins.cost, rt_con, ins.args)
+            return (ins.cost, rt_con, ins.args, ins.addr, after)
         if op == "2con":
-            return (ins.cost, rt_2con, ins.args)
-        return (ins.cost, p.fn, ())
+            return (ins.cost, rt_2con, ins.args, ins.addr, after)
+        return (ins.cost, p.fn, (), ins.addr, after)
 
     # ------------------------------------------------------ the clock mid-block
     def clock_out(self, ind):
@@ -284,11 +407,11 @@ class BlockGen:
         In the middle of a block, clk already holds the whole block's cost:
         m.clock gets what the reference loop would show (`rest` is the cost
         of the primitives after this one)."""
-        self.emit("m.clock = clk - %d; clk = -1" % self.rest if self.rest
+        self.emit("m.clock = clk - %d; clk = -1" % self.blk.rest if self.blk.rest
                   else "m.clock = clk; clk = -1", ind)
 
     def clock_in(self, ind):
-        self.emit("clk = m.clock + %d" % self.rest if self.rest else "clk = m.clock", ind)
+        self.emit("clk = m.clock + %d" % self.blk.rest if self.blk.rest else "clk = m.clock", ind)
 
     # -------------------------------------------------------- the return stack
     def call_check(self, ind):
@@ -296,19 +419,19 @@ class BlockGen:
         stack: overflow here if the real call would, counting what the fast
         path never pushes (the open calls' return addresses, a frame kept
         in Python names), with the data stack and clock the reference has."""
-        unseen = self.open_calls + (len(self.rs_known) if self.rs_pending else 0)
+        unseen = self.blk.open_calls + (len(self.blk.rs_known) if self.blk.rs_pending else 0)
         self.emit("if len(rs) > %d:" % (RSTACK_CELLS - unseen), ind, "rs")
-        vs, dpl = list(self.vs), self.dpl
+        vs, dpl = list(self.blk.vs), self.blk.dpl
         self.flush(ind + 1, rewrite=False)
-        self.vs, self.dpl = vs, dpl
+        self.blk.vs, self.blk.dpl = vs, dpl
         self.clock_out(ind + 1)
         self.emit("m.rs_overflow()", ind + 1)
 
     def forget_rs(self, ind):
         """Something may look at the return stack: lay down any cells kept
         back (a locals frame whose reads all came from Python names so far)."""
-        if self.rs_pending:
-            self.emit(self.rs_pending, ind, "rs")
-            self.index_atom = None               # the frame is above the loop's now
-        self.rs_known = self.rs_pending = None
+        if self.blk.rs_pending:
+            self.emit(self.blk.rs_pending, ind, "rs")
+            self.blk.index_atom = None               # the frame is above the loop's now
+        self.blk.rs_known = self.blk.rs_pending = None
 

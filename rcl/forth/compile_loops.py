@@ -17,7 +17,8 @@ stack too:
     while True:
         if clk + 2000000 >= m.deadline:       # the usual check, each iteration
             m.clock = clk; clk = -1; rs[-1] = _i; s.append(_c)
-            slow(m, SEQ1, 1000000)            # exact: one primitive at a time
+            _r = slow(m, G, SEQ1)             # exact: one primitive at a time
+            if _r is not None: return _r      # (the code changed: compiler.py)
             clk = m.clock; _i = rs[-1]; _c = s.pop()
         else:
             clk += 3000000
@@ -74,7 +75,8 @@ is one `while` too, its blocks in the shape of the source:
         _w = clk + 6000000 >= m.deadline      # may a check fall due before the next head?
         if _w and clk + 3000000 >= m.deadline:
             m.clock = clk; clk = -1; rs[-1] = _i; s.append(_k0)
-            slow(m, SEQ1, 1000000)            # exact, as in any block
+            _r = slow(m, G, SEQ1)             # exact, as in any block
+            if _r is not None: return _r
             ...                               # then _f and _k0 from the real stack
         else:
             clk += 4000000
@@ -118,7 +120,8 @@ control.goes_on instead of calling LOOP_STEP. Where loop_shape cannot find
 a shape (jumps that cross), the blocks are gone through with guards
 `if b <= k` inside the while, as in the rest of a definition.
 """
-from rcl.forth.control import goes_on
+from rcl.forth.compile_block import BlockState, I_LOCAL, LOAD_FRAME, LOAD_INDEX, STORE_INDEX
+from rcl.forth.control import DROP_FRAME, goes_on
 from rcl.forth.decode import NO_TERMINATOR, literal_template
 from rcl.forth.loop_shape import find_regions, loop_op, shape
 
@@ -130,14 +133,28 @@ def push(cells):
     return "; s.append(%s)" % cells[0] if cells else ""
 
 
-class LoopGen:
-    """Mixed into the compiler's Gen."""
+class LoopState:
+    """What the code generator knows about the Python while it is in (one
+    made fresh for each loop; one with nothing set outside them): its
+    index' and limit' are in the locals _i and _lim."""
+    __slots__ = ("in_loop", "real_stack", "carried_used", "carrying", "shaped", "dpl_guard")
 
-    in_loop = False
-    real_stack = False           # the body loaded from or wrote to the real stack
-    carried_used = False         # the body took the carried top of stack
-    carrying = False             # in a Region: flush hands vs on in locals (carry_out)
-    shaped = False               # the Region's blocks are laid out as loop_shape found them
+    def __init__(self, in_loop=False, dpl_guard=False, shaped=False):
+        self.in_loop = in_loop       # a loop of one block: I is computed from _i
+        self.real_stack = False      # the body loaded from or wrote to the real stack
+        self.carried_used = False    # the body took the carried top of stack
+        self.carrying = False        # in a Region's block: flush hands vs on in locals (carry_out)
+        self.shaped = shaped         # the Region's blocks are laid out as loop_shape found them
+        self.dpl_guard = dpl_guard   # the loop's stores of DPL repeat: `_d` says if memory needs them
+
+    @property
+    def index_in_locals(self):
+        """Is the loop frame's index' in _i now (not in rs, until stored)?"""
+        return self.in_loop or self.carrying
+
+
+class LoopGen:
+    """Mixed into the compiler's Gen: `lp` is the loop being written."""
 
     def loopable(self, ops, term, start):
         """Can this block run as a Python while loop?"""
@@ -168,52 +185,52 @@ class LoopGen:
                 return False
         return len(values) == 1
 
-    def loop_body(self, ops, plus, ind, carry, steady):
+    def loop_body(self, ops, cost, plus, ind, carry, steady):
         """One iteration's primitives in Python -> (lines, step, carried
-        out), or None when the body does not keep the top of stack."""
+        out), or None when the body does not keep the top of stack (cost:
+        the iteration's, counted at its start)."""
         saved, self.lines = self.lines, []
-        self.vs, self.dpl = (["_c"] if carry else []), None
-        self.real_stack, self.in_loop, self.carried_used = False, True, False
-        self.index_atom, self.open_calls, self.rs_unknown = None, 0, False
-        self.dpl_guard = steady      # (steady_dpl: the fast path stores DPL while _d says so)
-        for i in ops:                # (no Python primitive here: `rest` stays 0)
+        self.blk = BlockState(["_c"] if carry else [], rest=cost)
+        # (steady_dpl: the fast path stores DPL while _d says so)
+        self.lp = LoopState(in_loop=True, dpl_guard=steady)
+        for i in ops:
+            self.blk.rest -= i.cost  # (for a store that changes the code: stale_check)
             self.op_simple(i, ind)
+        self.blk.rest = 0
         step = self.take(1, ind)[0] if plus else None
         self.flush_dpl(ind)
-        self.dpl_guard = False
+        self.lp.dpl_guard = False
         out = None
         if carry:
-            ok = self.carried_used and not self.real_stack and len(self.vs) == 1
-            out = self.vs[0] if ok else None
+            ok = self.lp.carried_used and not self.lp.real_stack and len(self.blk.vs) == 1
+            out = self.blk.vs[0] if ok else None
         else:
             self.flush(ind)
             ok = True
         lines, self.lines = self.lines, saved
-        self.in_loop = False
-        self.vs = []
+        self.lp, self.blk = LoopState(), BlockState()
         return (lines, step, out) if ok else None
 
     def loop_block(self, k, ops, term, ind):
         pre = sum(i.cost for i in ops)
         plus = term.op == "(+LOOP)"
-        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         steady = self.steady_dpl(ops, stores=True)
-        body = self.loop_body(ops, plus, ind + 2, True, steady)
+        body = self.loop_body(ops, pre + term.cost, plus, ind + 2, True, steady)
         carry = body is not None
         if not carry:
-            body = self.loop_body(ops, plus, ind + 2, False, steady)
+            body = self.loop_body(ops, pre + term.cost, plus, ind + 2, False, steady)
         lines, step, out = body
-        self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
+        self.emit(LOAD_FRAME, ind, "rs")
         if carry:
             self.emit("_c = s.pop()", ind, "s")
         if steady:
             self.emit("_d = 1", ind)
         self.emit("while True:", ind)
         self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 1)
-        self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + ("; s.append(_c)" if carry else ""),
+        self.emit("m.clock = clk; clk = -1; " + STORE_INDEX + ("; s.append(_c)" if carry else ""),
                   ind + 2, "s")
-        self.emit("slow(m, %s, %d)" % (seq, term.cost), ind + 2)
-        self.emit("clk = m.clock; _i = rs[-1]" + ("; _n = s.pop()" if plus else "")
+        self.slow_path(ops, term, term.cost, ind + 2)
+        self.emit("clk = m.clock; " + LOAD_INDEX + ("; _n = s.pop()" if plus else "")
                   + ("; _c = s.pop()" if carry else "") + ("; _d = 1" if steady else ""), ind + 2)
         self.emit("else:", ind + 1)
         self.emit("clk += %d" % (pre + term.cost), ind + 2)
@@ -226,7 +243,7 @@ class LoopGen:
         self.emit("break", ind + 1)
         if carry:
             self.emit("s.append(_c)", ind)
-        self.emit("del rs[-3:]", ind)
+        self.emit(DROP_FRAME, ind)
         self.goto_next(k, term.next, ind)
 
     def find_regions(self, blocks):
@@ -237,32 +254,33 @@ class LoopGen:
         """The Python while of Region r (see the module's docstring)."""
         self.inner.update(blocks[k][0] for k in range(r.first + 1, r.last + 1))
         cells = ["_k%d" % i for i in range(r.carry[r.first])]
-        self.emit("_lim = rs[-2]; _i = rs[-1]", ind, "rs")
+        self.emit(LOAD_FRAME, ind, "rs")
         if cells:               # a short stack: the reference loop runs it, to its underflow
             self.emit("if len(s) < %d:" % len(cells), ind, "s")
             self.emit("m.clock = clk; clk = -1; return m.run_from(%d, d0)" % blocks[r.first][0],
                       ind + 1, "d0")
             self.emit("; ".join("%s = s.pop()" % c for c in reversed(cells)), ind)
         if r.uses_i:
-            self.emit("_I = (_i + _lim) & 0xFFFF", ind)
-        self.dpl_guard = self.steady_dpl([i for k in range(r.first, r.last + 1)
-                                          for i in blocks[k][1]], stores=True)
-        if self.dpl_guard:
+            self.emit("_I = " + I_LOCAL, ind)
+        self.lp = LoopState(dpl_guard=self.steady_dpl(
+            [i for k in range(r.first, r.last + 1) for i in blocks[k][1]], stores=True))
+        if self.lp.dpl_guard:
             self.emit("_d = 1", ind)
         self.emit("while True:", ind)
         jumps = {k: self.jump_of(blocks[k][2]) for k in range(r.first, r.last)}
         nodes = shape(jumps, r.first, r.last)
         if nodes is not None:
-            self.shaped = True
+            self.lp.shaped = True
             self.emit_shape(r, blocks, nodes + [("block", r.last)], ind + 1)
         else:                   # jumps that cross: from block to block through guards
-            self.shaped = False
+            self.lp.shaped = False
             for k in range(r.first, r.last + 1):
-                self.emit("if b <= %d:   # %04X" % (k, blocks[k][0]), ind + 1)
+                a = blocks[k][0]
+                self.emit("if b <= %d:   # %04X  %s" % (k, a, self.forth[a]), ind + 1)
                 self.region_block(r, k, blocks[k], ind + 2)
         self.emit("break", ind + 1)
-        self.dpl_guard = False
-        self.emit("del rs[-3:]" + push(cells), ind)
+        self.lp = LoopState()
+        self.emit(DROP_FRAME + push(cells), ind)
         self.goto_next(r.last, blocks[r.last][2].next, ind)
 
     def jump_of(self, term):
@@ -276,7 +294,8 @@ class LoopGen:
         for node in nodes:
             kind = node[0]
             if kind == "block":
-                self.emit("# %04X" % blocks[node[1]][0], ind)
+                a = blocks[node[1]][0]
+                self.emit("# %04X  %s" % (a, self.forth[a]), ind)
                 self.region_block(r, node[1], blocks[node[1]], ind)
             elif kind == "if":
                 self.emit("if _f:", ind)
@@ -302,27 +321,26 @@ class LoopGen:
         _, ops, term, self.next_addr = block
         pre = sum(i.cost for i in ops)
         tcost = term.cost if term is not None else 0
-        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
         if k in r.heads:
             self.emit("_w = clk + %d >= m.deadline" % r.heads[k], ind)
         self.emit("if _w and clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind)
         cells = ["_k%d" % i for i in range(r.carry[k])]
-        self.emit("m.clock = clk; clk = -1; rs[-1] = _i" + push(cells), ind + 1, "s")
-        self.emit("slow(m, %s, %d)" % (seq, tcost) if term is not None else "slow(m, %s)" % seq,
-                  ind + 1)
+        self.emit("m.clock = clk; clk = -1; " + STORE_INDEX + push(cells), ind + 1, "s")
+        self.slow_path(ops, term, tcost, ind + 1)
         self.clock_in(ind + 1)
-        if self.dpl_guard:                # (a handler may have changed DPL)
+        if self.lp.dpl_guard:                # (a handler may have changed DPL)
             self.emit("_d = 1", ind + 1)
-        self.carrying, self.dpl, self.vs = True, None, []
-        self.index_atom = "_I" if r.uses_i else None
-        self.vs = self.take(r.after[k], ind + 1)
+        index = "_I" if r.uses_i else None
+        self.lp.carrying = True
+        self.blk = BlockState(index_atom=index)
+        self.blk.vs = self.take(r.after[k], ind + 1)
         self.region_end(r, k, term, ind + 1)
         self.emit("else:", ind)
-        self.vs, self.dpl, self.rs_known = list(cells), None, None
-        self.index_atom = "_I" if r.uses_i else None
+        self.blk = BlockState(cells, index_atom=index)
         self.fast_ops(ops, pre + tcost, ind + 1)
         self.region_end(r, k, term, ind + 1)
-        self.carrying = False
+        self.lp.carrying = False
+        self.blk = BlockState()
 
     def region_end(self, r, k, term, ind):
         """Block k's terminator; the loop's step at its last block. A flag
@@ -334,9 +352,9 @@ class LoopGen:
         elif op == "?BRANCH":
             self.name_flag(self.take(1, ind)[0], ind)
             self.flush(ind)
-            if not self.shaped:           # jump if zero: ?BRANCH's rule (control.py)
+            if not self.lp.shaped:           # jump if zero: ?BRANCH's rule (control.py)
                 self.branch("not _f", term.target, k, term.next, ind)
-        elif self.shaped:
+        elif self.lp.shaped:
             self.flush(ind)               # (a jump's place in the shape says where it goes)
         else:
             self.terminator(term or NO_TERMINATOR, k, ind)
@@ -361,8 +379,8 @@ class LoopGen:
             self.emit("_n = %s" % n, ind)
             n = "_n"
         self.flush(ind)
-        on = ("; _I = (_i + _lim) & 0xFFFF" if r.uses_i else "") + "; " + (
-            "continue" if self.shaped else "b = %d; continue" % r.first)
+        on = ("; _I = " + I_LOCAL if r.uses_i else "") + "; " + (
+            "continue" if self.lp.shaped else "b = %d; continue" % r.first)
         self.step_index(n, on, ind)
 
     def step_index(self, n, on, ind):
@@ -390,8 +408,8 @@ class LoopGen:
     def carry_out(self, ind):
         """Hand the cells in vs to the next block in locals _k0.. (the
         stack from the loop's lowest point up), not to the real stack."""
-        pairs = [("_k%d" % i, v) for i, v in enumerate(self.vs) if v != "_k%d" % i]
+        pairs = [("_k%d" % i, v) for i, v in enumerate(self.blk.vs) if v != "_k%d" % i]
         if pairs:
             self.emit("%s = %s" % (", ".join(n for n, _ in pairs), ", ".join(v for _, v in pairs)),
                       ind)
-        self.vs = []
+        self.blk.vs = []

@@ -22,10 +22,11 @@ few minutes with a machine at hand):
         try:
             b = 0
             while True:
-                if b <= 0:   # 1981          # block 0: 1- DUP 0= ?BRANCH
+                if b <= 0:   # 198F  1- DUP 0= ?BRANCH      (block 0, the Forth it runs)
                     if clk + 3000000 >= m.deadline:
                         m.clock = clk; clk = -1
-                        slow(m, SEQ0, 1000000)   # exact: a primitive at a time
+                        _r = slow(m, G, SEQ0)    # exact: a primitive at a time
+                        if _r is not None: return _r   # (the code changed: see below)
                         clk = m.clock
                         t1 = s.pop()
                         if t1 == 0: b = 0; continue
@@ -35,7 +36,7 @@ few minutes with a machine at hand):
                         t3 = (t2 - 1) & 0xFFFF
                         s[-1] = t3
                         if not (t3 == 0): b = 0; continue   # 0= UNTIL: one test
-                if b <= 1:   # 198B          # block 1: EXIT
+                if b <= 1:   # 1999  EXIT
                     if clk + 0 >= m.deadline:
                         ...                  # the slow path, as above
                     else:
@@ -94,19 +95,27 @@ Locals (rcl/words/localvars.py) use the same idea for the return stack: a
 frame's cells stay Python names (`rs_known`), the frame pushed only before
 something that may look at the return stack (`forget_rs`, compile_block.py).
 
-Memory stays the truth: every cell the compiled code depends on is marked
-in `watch`; a store there throws all compiled code away (it is rebuilt on
-the next call). A definition already running finishes in its old form.
+Memory stays the truth: every byte a compiled function rests on is marked
+in `watch` (compile_deps.py says which); a store there drops just the
+functions resting on it (the next call compiles them again). One of them
+still running finds its STALE flag set after the store, call or slow path
+that made it, and goes on in the reference loop from the next primitive,
+with what it kept in Python names put where the reference keeps it
+(`stale_check`, `resume`): run_from reads every cell as it goes, so the
+change is seen exactly where the reference loop sees it.
 """
 import types
 
-from rcl.forth.memory import MASK, PRIM_LIMIT, WATCH_CODE
-from rcl.forth.primitives import HELPERS
-from rcl.forth.compile_block import WIDE_DPL, BlockGen  # noqa: F401 (WIDE_DPL: for core.py)
-from rcl.forth.compile_loops import LoopGen
-from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.errors import ForthError
+from rcl.forth.memory import MASK, PRIM_LIMIT
+from rcl.forth.primitives import HELPERS, REGISTRY
+from rcl.forth.compile_block import (WIDE_DPL, BlockGen, BlockState,  # noqa: F401 (WIDE_DPL:
+                                     forth_of)                          # core.py)
+from rcl.forth.compile_loops import LoopGen, LoopState
+from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
 from rcl.forth.decode import NO_TERMINATOR, TERMINATORS, call_depth, decode, walk  # noqa: F401
-from rcl.forth.inner import COMPILED, N, RSTACK_CELLS                      # (decode: for SEE)
+from rcl.forth.inner import (COMPILED, CONTROL, N, RSTACK_CELLS,  # (decode: for SEE)
+                             decode_args)
 
 DOCOL_N = N["(DOCOL)"]
 
@@ -114,20 +123,82 @@ INLINED = "# inlined: "       # a compiled line's note of the inlined calls it r
 GROUP = 32                   # blocks per group of guards in a long definition
 
 
-def slow(m, seq, term_cost=None):
-    """Run a block's primitives one by one, then account for its terminator
-    (None: a block that runs into the next, or a call that checks itself:
-    a second check at the same boundary could take a second interrupt
-    there, where the reference loop takes one)."""
-    for cost, fn, args in seq:
+def slow(m, env, seq):
+    """Run a block's primitives one by one (seq: (cost, fn, args, at,
+    after) each, the last maybe the terminator's turn: its cost counted,
+    its work done by the compiled code after). -> None; or, when the code
+    changed under the running function (env's STALE: a store it made, or
+    an interrupt handler's), the reference loop runs on (from `after`, a
+    primitive that may store; or from `at`, whose boundary's check ran a
+    handler) and -> what it returns, for the function to return."""
+    for cost, fn, args, at, after in seq:
         if m.clock >= m.deadline:
             m.housekeep()
+            if env["STALE"]:
+                return m.run_from(checked_step(m, at))
         m.clock += cost
         fn(m, *args)
-    if term_cost is not None:
-        if m.clock >= m.deadline:
-            m.housekeep()
-        m.clock += term_cost
+        if after is not None and env["STALE"]:
+            return m.run_from(after)
+    return None
+
+
+def checked_step(m, ip):
+    """Run the cell at ip as run_from does, its boundary's check already
+    made (a second could take a second interrupt where the reference loop
+    takes one, when a handler runs longer than its period); -> next ip."""
+    mem = m.mem
+    xt = mem[ip] | (mem[(ip + 1) & MASK] << 8)
+    ip = (ip + 2) & MASK
+    cf = mem[xt] | (mem[(xt + 1) & MASK] << 8)
+    op = CONTROL.get(cf)
+    if op is not None:
+        m.clock += m.cost[cf]
+        return op.run(m, ip)
+    p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
+    if p is not None and p.kind == "literal":
+        m.clock += m.cost[cf]
+        args, ip = decode_args(m, p, ip)
+        p.fn(m, *args)
+        return ip
+    # m.call without its check: what run_from does for any other cell
+    if cf >= PRIM_LIMIT:                       # a DOES> child
+        m.clock += m.cost[DOCOL_N]
+        m.s.append((xt + 2) & MASK)
+        return m.enter(cf, ip)
+    if p is None:
+        raise ForthError(-260)
+    m.clock += m.cost[cf]
+    if p.kind == "runtime":
+        return p.fn(m, xt, ip)
+    if p.kind in ("simple", "call"):
+        p.fn(m)
+        return ip
+    if p.name == "EXECUTE":
+        return m.call(m.s.pop(), ip)
+    raise ForthError(-14, "Compile only", p.name)
+
+
+def counted(m):
+    """A terminator's turn in `slow`: its time counted, its work done by
+    the compiled code that follows (a block that runs into the next, or a
+    call that checks itself, has no turn: a second check at the same
+    boundary could take a second interrupt there, where the reference loop
+    takes one)."""
+
+
+def resume(m, ip, cells=(), index=None, rs_cells=()):
+    """Code changed under a running function in the middle of a block: the
+    cells it kept in Python names go where the reference loop keeps them
+    (cells on the data stack; index, a DO loop's index', into the loop
+    frame; rs_cells, a locals frame and the return addresses of the calls
+    pasted into the block, on the return stack), and the reference loop
+    runs on from ip (-> what its EXIT returns, as a call's function does)."""
+    if index is not None:
+        m.rs[INDEX] = index
+    m.rs.extend(rs_cells)
+    m.s.extend(cells)
+    return m.run_from(ip)
 
 
 # The locals a compiled function may bind, in order, and what they hold.
@@ -146,9 +217,8 @@ class Gen(BlockGen, LoopGen):
         self.ntemp = 0
         self.uses = set()
         self.extra_marks = set()     # watched cells no instruction covers (dynamic_call)
-        self.docol_checked = False   # the block's check covered its call's (DOCOL) (block)
         self.inner = set()           # blocks inside a loop's while: no way in for LEAVE
-        self.inlined = []            # call cells of the inlined calls being pasted
+        self.lp = LoopState()        # (not in a loop)
 
     # ------------------------------------------------------------ helpers
     def const(self, obj, hint="K"):
@@ -164,8 +234,8 @@ class Gen(BlockGen, LoopGen):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
         self.saw_line(ind, uses)
-        if self.inlined:             # for a backtrace (wordloc.py): the calls pasted here
-            line += "  %s%s" % (INLINED, " ".join(map(str, self.inlined)))
+        if self.blk.inlined:             # for a backtrace (wordloc.py): the calls pasted here
+            line += "  %s%s" % (INLINED, " ".join(map(str, self.blk.inlined)))
         self.lines.append("    " * ind + line)
         self.uses.update(uses)
 
@@ -200,9 +270,41 @@ class Gen(BlockGen, LoopGen):
             self.emit(line, ind)
 
     def call_tail(self, ins, k, ind):
+        """After a call (clk -1, m.clock the truth): a return address the
+        callee changed is returned in turn (inner.py); code changed under
+        this function runs on in the reference loop; else on at ins.next."""
         ret = ins.next
         self.emit("if r != %d: return r" % ret, ind)
+        self.stale_check(ret, ind)
+        self.clock_in(ind)
         self.goto_next(k, ret, ind)
+
+    def stale_check(self, ip, ind, clock=""):
+        """After Python code that may have changed the code this function
+        was made from (a store, a call, an interrupt handler): if it did,
+        the reference loop goes on at ip, the next primitive, as it would
+        have run it. Here m.clock is the truth, and whatever the function
+        keeps in Python names (a block's stack cells, a loop's index, a
+        locals frame, the return addresses of pasted calls) goes where the
+        reference loop keeps it first (`resume`). clock: the statement
+        that makes m.clock the truth, if clk still is."""
+        cells = list(self.blk.vs)
+        for a in cells:                        # (a flag handed on is made)
+            self.handed[a] = self.handed.get(a, 0) + 1
+        rs_cells = list(self.blk.rs_known or ()) if self.blk.rs_pending else []
+        rs_cells += self.blk.open_rets
+        index = "_i" if self.lp.index_in_locals else None
+        if self.blk.dpl is not None:               # (none is pending where checks are made)
+            raise AssertionError("a DPL pending at a stale check")
+        if not (cells or rs_cells or index):
+            self.emit("if STALE: %sreturn m.run_from(%d)" % (clock, ip), ind)
+            return
+        args = [str(ip), "(%s)" % "".join(a + ", " for a in cells).rstrip(" ")]
+        if index or rs_cells:
+            args.append(index or "None")
+        if rs_cells:
+            args.append("(%s)" % "".join(a + ", " for a in rs_cells).rstrip(" "))
+        self.emit("if STALE: %sreturn RESUME(m, %s)" % (clock, ", ".join(args)), ind)
 
     def terminator(self, ins, k, ind):
         """The code that ends block k: a control operation (control.py) or
@@ -221,7 +323,6 @@ class Gen(BlockGen, LoopGen):
             if kind == "does":
                 self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind, "s")
             self.enter_call(str(code), ins.next, ind)
-            self.clock_in(ind)
             self.call_tail(ins, k, ind)
         elif kind == "defer":
             body = ins.args[0]
@@ -231,11 +332,11 @@ class Gen(BlockGen, LoopGen):
         elif kind == "bad" or ins.prim.kind == "runtime":
             self.clock_out(ind)
             self.emit("r = m.call(%d, %d)" % (ins.xt, ins.next), ind)
-            self.clock_in(ind)
             self.call_tail(ins, k, ind)
         else:                             # a primitive that may run Forth or move the clock
             self.clock_out(ind)
             self.emit("%s(m)" % self.const(ins.prim.fn, "P"), ind)
+            self.stale_check(ins.next, ind)
             self.clock_in(ind)
             self.goto_next(k, ins.next, ind)
 
@@ -246,7 +347,7 @@ class Gen(BlockGen, LoopGen):
         the cell `@` read); if that is a colon word, x is compared with it
         first and its body called by number (its code field is watched)."""
         docol = self.m.cost[DOCOL_N]
-        due = "" if self.docol_checked else " and clk < m.deadline"
+        due = "" if self.blk.docol_checked else " and clk < m.deadline"
         colon = "mem[%s] == %d and mem[(%s + 1) & 0xFFFF] == 0%s" % (x, DOCOL_N, x, due)
         if guess is not None and self.m.memory.fetch(guess) == DOCOL_N:
             # (FN has the body only while compiled code stands: once a store
@@ -264,7 +365,6 @@ class Gen(BlockGen, LoopGen):
         self.emit("else:", ind)
         self.clock_out(ind + 1)
         self.emit("r = m.call(%s, %d)" % (x, ret), ind + 1)
-        self.clock_in(ind)
 
     def enter_call(self, a, ret, ind, docol=0):
         """Call the compiled body at a (None: the function in _f) as a colon
@@ -286,38 +386,42 @@ class Gen(BlockGen, LoopGen):
         # everything else, DEFER included, costs its own cell here.
         through_call = term.op == "bad" or (term.op == "call" and term.prim.kind == "runtime")
         tcost = 0 if term.op is None or through_call else term.cost
-        seq = self.const(tuple(self.slow_entry(i) for i in ops), "SEQ")
-        self.index_atom = None
         # EXECUTE and DEFER call at the boundary after their own cell, the
         # callee's (DOCOL): the fast path checks that one too, at the start
         # (the deadline moves only in Python code, which ends a block).
-        self.docol_checked = term.op in ("EXECUTE", "defer")
-        ahead = tcost if self.docol_checked else 0
+        docol = term.op in ("EXECUTE", "defer")
+        ahead = tcost if docol else 0
         self.emit("if clk + %d >= m.deadline%s:" % (pre + ahead, self.depth_check(ops)), ind)
         self.clock_out(ind + 1)
-        self.emit("slow(m, %s)" % seq if term.op is None or through_call
-                  else "slow(m, %s, %d)" % (seq, tcost), ind + 1)
+        self.slow_path(ops, None if term.op is None or through_call else term, tcost, ind + 1)
         self.clock_in(ind + 1)
-        self.vs, self.dpl, self.rs_known = [], None, None
-        checked, self.docol_checked = self.docol_checked, False
+        self.blk = BlockState()
         self.terminator(term, k, ind + 1)
-        self.docol_checked = checked
         self.emit("else:", ind)
-        self.vs, self.dpl, self.index_atom, self.rs_known = [], None, None, None
+        self.blk = BlockState(docol_checked=docol)
         self.fast_ops(ops, pre + tcost, ind + 1)
         self.terminator(term, k, ind + 1)
-        self.docol_checked = False
+        self.blk = BlockState()
+
+    def slow_path(self, ops, term, tcost, ind):
+        """`slow` runs the block's primitives one at a time, then term's
+        turn (its cost tcost; None: no turn); if the code changed under
+        the function meanwhile, the reference loop goes on where slow says."""
+        entries = [self.slow_entry(i) for i in ops]
+        if term is not None:
+            entries.append((tcost, counted, (), term.addr, None))
+        self.emit("_r = slow(m, G, %s)" % self.const(tuple(entries), "SEQ"), ind)
+        self.emit("if _r is not None: return _r", ind)
 
     def fast_ops(self, ops, cost, ind):
         """The fast path's body: the block's whole cost at once, then its
         primitives pasted (op_simple), `rest` the cost still ahead of each."""
         self.emit("clk += %d" % cost, ind)
-        self.open_calls, self.rs_unknown = 0, False
-        self.rest = cost
+        self.blk.rest = cost
         for i in ops:
-            self.rest -= i.cost
+            self.blk.rest -= i.cost
             self.op_simple(i, ind)
-        self.rest = 0
+        self.blk.rest = 0
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
@@ -352,11 +456,12 @@ class Gen(BlockGen, LoopGen):
         self.emit("PROLOGUE", 1)
         self.emit("b = 0", 1)
         self.emit("while True:", 1)
-        blocks = []
+        blocks, self.forth = [], {}
         for a in starts:
-            ops, term, ip = [], None, a
+            ops, term, ip, words = [], None, a, []
             while True:
                 ins = code[ip]
+                words.append(forth_of(self.m, ins))
                 if ins.op in TERMINATORS:
                     term = ins
                     break
@@ -364,6 +469,7 @@ class Gen(BlockGen, LoopGen):
                 ip = ins.next
                 if ip in self.index or ip not in code:
                     break
+            self.forth[a] = " ".join(words)
             blocks.append((a, ops, term, ip if term is None else None))
         regions = self.find_regions(blocks)
         groups = self.groups(len(blocks), regions)
@@ -376,7 +482,7 @@ class Gen(BlockGen, LoopGen):
                 ind = 3
             if k <= skip:
                 continue
-            self.emit("if b <= %d:   # %04X" % (k, a), ind)
+            self.emit("if b <= %d:   # %04X  %s" % (k, a, self.forth[a]), ind)
             if k in regions:
                 self.region_loop(regions[k], blocks, ind + 1)
                 skip = regions[k].last
@@ -413,13 +519,13 @@ def compile_code(m, entry):
     env = types.ModuleType(COMPILED).__dict__   # (PyPy's JIT reads a module's
     env.update(gen.consts)                      # globals as constants, a dict's not)
     env.update(HELPERS)
-    env.update(slow=slow, FN=m.fn.get, CP=m.compile,
+    env.update(slow=slow, RESUME=resume, STALE=False, G=env,
+               FN=m.fn.get, CP=m.compile,
                BMAP={a: k for a, k in gen.index.items() if a not in gen.inner})
     exec(compile(src, COMPILED, "exec"), env)
-    for a in marks:
-        m.watch[a] |= WATCH_CODE
     f = env["f"]
     f.source = src
+    f.marks = marks                  # the bytes it rests on (compile_deps.py)
     return f
 
 

@@ -23,7 +23,10 @@ F83's DO-loop frame, drawn once (three cells on the return stack):
 The loop ends when adding the step to index' overflows a signed cell: the
 index crossed the boundary between limit-1 and limit, from either side.
 `do_frame` and `loop_step` are the only places that arithmetic is written
-(`goes_on` spells loop_step out for a step known when compiling).
+(`goes_on` spells loop_step out for a step known when compiling), and
+LEAVE, LIMIT, INDEX and `frame_cell` the only place the layout is: the
+reference functions below, the compiler's loops (compile_loops.py) and the
+I, J and UNLOOP templates (words/core.py) all name the cells through them.
 """
 from dataclasses import dataclass
 
@@ -31,6 +34,20 @@ from rcl.forth.memory import MASK
 from rcl.forth.primitives import HELPERS
 
 LAST_INDEX = 0x7FFF          # index' from which a step of +1 ends the loop
+FRAME_CELLS = 3              # a DO loop's frame on the return stack, and its cells:
+LEAVE, LIMIT, INDEX = -3, -2, -1      # rs[LEAVE], rs[LIMIT], rs[INDEX]
+DROP_FRAME = "del rs[-%d:]" % FRAME_CELLS   # (as Python text, for compiled code)
+
+
+def frame_cell(cell, loop=0):
+    """Python text for a cell (LEAVE, LIMIT or INDEX) of the DO-loop frame
+    `loop` frames out (0: the innermost), with nothing above it on rs."""
+    return "rs[%d]" % (cell - FRAME_CELLS * loop)
+
+
+def index_of(index, limit):
+    """Python text for a loop's index from its index' and limit'."""
+    return "(%s + %s) & 0xFFFF" % (index, limit)
 
 
 def do_frame(limit, start):
@@ -134,42 +151,44 @@ def gen_qdo(g, ins, k, ind):
 
 def run_loop(m, ip):
     rs = m.rs
-    x = loop_step(rs[-1], 1)
+    x = loop_step(rs[INDEX], 1)
     if x is None:
-        del rs[-3:]
+        del rs[-FRAME_CELLS:]
         return (ip + 2) & MASK
-    rs[-1] = x
+    rs[INDEX] = x
     return m.memory.fetch(ip)
 
 
 def gen_loop(g, ins, k, ind):
     g.flush(ind)
-    g.emit("_x = rs[-1]", ind, "rs")        # loop_step(_x, 1), spelt out: the hot path
+    index = frame_cell(INDEX)
+    g.emit("_x = %s" % index, ind, "rs")    # loop_step(_x, 1), spelt out: the hot path
     g.branch("_x != %d" % LAST_INDEX, ins.target, k, ins.next, ind,
-             "rs[-1] = _x + 1 & 0xFFFF", "del rs[-3:]")
+             "%s = _x + 1 & 0xFFFF" % index, DROP_FRAME)
 
 
 def run_plus_loop(m, ip):
     rs = m.rs
-    x = loop_step(rs[-1], m.s.pop())
+    x = loop_step(rs[INDEX], m.s.pop())
     if x is None:
-        del rs[-3:]
+        del rs[-FRAME_CELLS:]
         return (ip + 2) & MASK
-    rs[-1] = x
+    rs[INDEX] = x
     return m.memory.fetch(ip)
 
 
 def gen_plus_loop(g, ins, k, ind):
     (n,) = g.take(1, ind)
     g.flush(ind)
-    g.emit("_y = LOOP_STEP(rs[-1], %s)" % n, ind, "rs")
-    g.branch("_y is not None", ins.target, k, ins.next, ind, "rs[-1] = _y", "del rs[-3:]")
+    g.emit("_y = LOOP_STEP(%s, %s)" % (frame_cell(INDEX), n), ind, "rs")
+    g.branch("_y is not None", ins.target, k, ins.next, ind,
+             "%s = _y" % frame_cell(INDEX), DROP_FRAME)
 
 
 def run_leave(m, ip):
     rs = m.rs
-    ip = rs[-3]
-    del rs[-3:]
+    ip = rs[LEAVE]
+    del rs[-FRAME_CELLS:]
     return ip
 
 
@@ -193,7 +212,7 @@ def gen_qleave(g, ins, k, ind):
 def leave(g, ind):
     """Go where the loop frame says (a block of this definition, or, for a
     frame some other word made, the reference loop)."""
-    g.emit("_t = rs[-3]; del rs[-3:]", ind, "rs")
+    g.emit("_t = %s; %s" % (frame_cell(LEAVE), DROP_FRAME), ind, "rs")
     g.emit("b = BMAP.get(_t)", ind)
     g.emit("if b is None: m.clock = clk; clk = -1; return m.run_from(_t, d0)", ind, "d0")
     g.emit("continue", ind)

@@ -154,6 +154,22 @@ class Dictionary:
             c[2].setdefault(name, []).insert(0, lfa)
             self.cache[wid] = (lfa, c[1], c[2])
 
+    def _cache_forget(self, wid, old_head, new_head, gone):
+        """The headers gone (newest first) left wid's list: its cached
+        table loses them rather than being built again."""
+        c = self.cache.get(wid)
+        if c is None or c[0] != old_head or c[1] != self.generation:
+            return
+        table = c[2]
+        for lfa in gone:
+            name = self.name_of((lfa + 2) & MASK)
+            lfas = table.get(name)
+            if lfas and lfa in lfas:
+                lfas.remove(lfa)
+                if not lfas:
+                    del table[name]
+        self.cache[wid] = (new_head, c[1], table)
+
     def find_in(self, wid, name):
         """The newest visible lfa named name in wid, or 0."""
         mem = self.memory.mem
@@ -208,17 +224,23 @@ class Dictionary:
         m, mem = self.m, self.memory
         if addr < mem.fetch(m.a_fence):
             raise ForthError(-15, "Below fence")
+        old_here = self.here
         voc = mem.fetch(m.a_voclink)
         while voc and voc >= addr:             # vocabularies defined later go
             voc = mem.fetch(voc)
         mem.store(m.a_voclink, voc)
         wids = self.wordlists()
         for wid in wids:
-            lfa = mem.fetch(wid)
+            head = lfa = mem.fetch(wid)
+            gone = []
             while lfa >= addr:
+                gone.append(lfa)
                 lfa = mem.fetch(lfa)
             mem.store(wid, lfa)
+            self._cache_forget(wid, head, lfa, gone)
         alive = set(wids)
+        for wid in [w for w in self.cache if w not in alive]:
+            del self.cache[wid]
         order = [w for w in self.order() if w in alive] or [m.forth_wid]
         self.set_order(order)
         if mem.fetch(m.a_current) not in alive:
@@ -230,8 +252,7 @@ class Dictionary:
         # again, so new definitions stored there do not flush the name cache.
         end = DICT_LIMIT
         mem.watch[addr:end] = mem.watch[addr:end].translate(CLEAR_HEADER)
-        self.generation += 1
-        m.invalidate()
+        m.invalidate(addr, max(old_here, addr))     # only the code resting on what went
 
     def wordlists(self):
         """Every word list: the vocabularies on VOC-LINK (wid = link + 2... see

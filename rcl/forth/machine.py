@@ -15,6 +15,7 @@ import threading
 from rcl.board import NullBoard
 from rcl.errors import Bye, ForthError, open_source
 from rcl.forth import inner, state
+from rcl.forth.compile_deps import CodeDeps
 from rcl.forth.compiler import compile_code
 from rcl.forth.decode import TooLarge
 from rcl.forth.dictionary import IMMEDIATE, Dictionary
@@ -84,6 +85,7 @@ class Forth(Inner, Outer):
         self.in_forth = 0              # evaluate/include calls under way
         self.in_safe_state = False     # running the abort hooks (after an error)
         self._init_inner()
+        self.code_deps = CodeDeps()        # what each compiled function rests on
         self._init_outer()
         if system is None and type(self)._image is None:
             state.init(self)               # every word set's declared state, fresh
@@ -147,19 +149,29 @@ class Forth(Inner, Outer):
             f = compile_code(self, addr)
         except TooLarge:                   # a wild EXECUTE: the reference loop runs it
             f = lambda m: m.run_from(addr, len(m.rs))    # noqa: E731
+            self.fn[addr] = f
+            return f
         self.fn[addr] = f
+        self.code_deps.add(self, addr, f)
         return f
 
-    def invalidate(self):
-        """Forget all compiled code (memory changed under it)."""
+    def invalidate(self, lo=None, hi=None):
+        """Forget the compiled code resting on memory from lo to hi (all
+        of it without a range: memory or the costs changed under it)."""
+        if lo is not None:
+            self.code_deps.hit(self, lo, hi - lo)
+            return
+        self.code_deps.drop_all(self)
         self.fn.clear()
         self.watch[:] = self.watch.translate(CLEAR_CODE)
 
-    def watched(self, addr):
-        """A store hit compiled code or a header."""
-        w = self.watch[addr] | self.watch[(addr + 1) & MASK]
+    def watched(self, addr, n=2):
+        """A store of n bytes from addr hit compiled code or a header."""
+        w = 0
+        for i in range(n):
+            w |= self.watch[(addr + i) & MASK]
         if w & WATCH_CODE:
-            self.invalidate()
+            self.code_deps.hit(self, addr, n)
         if w & WATCH_HEADER:
             self.dictionary.header_stored(addr)
 

@@ -55,11 +55,11 @@ class Memory:
     """The 64 KiB segment with its watch marks.
 
     `mem` is the bytearray itself; the inner interpreter's compiled code
-    indexes it directly. `on_watched(addr)` is called after a store that hit
-    a watched byte.
+    indexes it directly. `on_watched(addr, n)` is called after a store of n
+    bytes (2 unless said) that hit a watched byte.
     """
 
-    def __init__(self, on_watched=lambda addr: None):
+    def __init__(self, on_watched=lambda addr, n=2: None):
         self.mem = bytearray(SIZE)
         self.watch = bytearray(SIZE)
         self.on_watched = on_watched
@@ -108,7 +108,7 @@ class Memory:
         if a + n <= SIZE:
             self.mem[a:a + n] = data
             if any(self.watch[a:a + n]):
-                self.on_watched(a)
+                self.on_watched(a, n)
         else:
             k = SIZE - a
             self.write(a, data[:k])

@@ -7,6 +7,7 @@ compiled code (see rcl/forth/primitives.py for the template form).
 """
 from rcl.forth.memory import MASK, signed
 from rcl.forth.compiler import HELPERS, WIDE_DPL
+from rcl.forth.control import DROP_FRAME, FRAME_CELLS, INDEX, LIMIT, frame_cell, index_of
 from rcl.forth.primitives import prim, BY_NAME
 
 T = "0xFFFF"                   # a true flag
@@ -226,22 +227,24 @@ def two_r_fetch(m):
     m.s.extend(m.rs[-2:])
 
 
-@prim("I", "( -- n ) the innermost loop index", inline=("", ("(rs[-1] + rs[-2]) & 0xFFFF",)))
+@prim("I", "( -- n ) the innermost loop index",
+      inline=("", (index_of(frame_cell(INDEX), frame_cell(LIMIT)),)))
 def i_index(m):
-    m.s.append((m.rs[-1] + m.rs[-2]) & MASK)
+    m.s.append((m.rs[INDEX] + m.rs[LIMIT]) & MASK)
 
 
-@prim("J", "( -- n ) the next outer loop index", inline=("", ("(rs[-4] + rs[-5]) & 0xFFFF",)))
+@prim("J", "( -- n ) the next outer loop index",
+      inline=("", (index_of(frame_cell(INDEX, 1), frame_cell(LIMIT, 1)),)))
 def j_index(m):
-    m.s.append((m.rs[-4] + m.rs[-5]) & MASK)
+    m.s.append((m.rs[INDEX - FRAME_CELLS] + m.rs[LIMIT - FRAME_CELLS]) & MASK)
 
 
 @prim("UNLOOP", "( -- ) R: ( loop-sys -- ) drop a DO frame before EXIT",
-      inline=("", (), "del rs[-3:]"))
+      inline=("", (), DROP_FRAME))
 def unloop(m):
-    if len(m.rs) < 3:
+    if len(m.rs) < FRAME_CELLS:
         raise IndexError
-    del m.rs[-3:]
+    del m.rs[-FRAME_CELLS:]
 
 
 # ----------------------------------------------------------------- arithmetic
