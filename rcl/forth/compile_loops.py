@@ -67,7 +67,7 @@ is one `while` too, its blocks in the shape of the source:
 
     _lim = rs[-2]; _i = rs[-1]
     if len(s) < 1:                            # too short: the reference loop runs it
-        m.clock = clk; clk = -1; return m.run_from(6638, d0)
+        m.clock = clk; clk = -1; return m.run_from(6649, d0)
     _k0 = s.pop()                             # the cells the body works on
     _I = (_i + _lim) & 0xFFFF                 # I, once an iteration
     _d = 1
