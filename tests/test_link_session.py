@@ -215,22 +215,24 @@ def test_rcl_refuses_a_bad_usb_url_plainly(spelling):
 
 # --------------------------------------- a busy host is not a silent board
 @pytest.fixture
-def pty_board():
-    """rcl-board behind a pty: a real line, whose silence the host judges
-    on the wall clock (as over TCP, USB or a serial line)."""
-    proc = subprocess.Popen([sys.executable, "-m", "rcl.hw.boardcli", "--pty", "--rate", "4"],
-                            stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
-    yield proc.stdout.readline().strip()
-    proc.terminate()
-    proc.wait(10)
+def wall_judged():
+    """A simulated board in this process, whose silence the host judges as
+    over a real line (TCP, a pty, USB, a serial port): on the wall clock
+    less its own stalls, not in the board's time. The board, in this
+    process, cannot be kept from running apart from the host, so what is
+    tested is the host's judgement alone, whatever the machine's load."""
+    from rcl.hw.liveness import Liveness
+    m = rcl.open(port="rclsim://?rate=4")
+    m.board.live = Liveness()                   # (the reader takes it at its next read)
+    yield m
+    m.board.close()
 
 
 LEGS = "RERB 6 INCHES FORWARD 90 DEGREES LEFT 6 INCHES FORWARD"
 
 
 def lockstep_counts(program):
-    """A lockstep board's counts depend on the frames only: the same over
-    rclsim:// as over a pty, at any pace (tests/test_link_serve.py)."""
+    """A lockstep board's counts depend on the frames only (test_link.py)."""
     m = rcl.open(port="rclsim://?rate=8")
     try:
         return m.evaluate(program + " 300 MS ?CNT1 D. ?CNT2 D.")
@@ -238,12 +240,12 @@ def lockstep_counts(program):
         m.board.close()
 
 
-def test_a_reader_thread_stalled_after_its_read_does_not_take_the_stall_for_silence(pty_board):
+def test_a_reader_thread_stalled_after_its_read_does_not_take_the_stall_for_silence(wall_judged):
     # The reader reads what waits, then (a busy machine, the GIL, a write
     # lock) is kept from running for 400 ms before it would judge: the
     # board's frames of that time wait on the line unread. Silence is
     # judged at the read, not after the stall.
-    m = rcl.open(port=pty_board)
+    m = wall_judged
     board = m.board
     dispatch, stalled = board.dispatch, []
 
@@ -260,12 +262,12 @@ def test_a_reader_thread_stalled_after_its_read_does_not_take_the_stall_for_sile
         board.close()
 
 
-def test_a_reader_kept_from_reading_for_over_a_second_does_not_give_a_request_up(pty_board):
+def test_a_reader_kept_from_reading_for_over_a_second_does_not_give_a_request_up(wall_judged):
     # The whole process stalled 1.2 s just as a request went out (the
     # reader inside its read, the Forth thread waiting for the answer):
     # when it runs again the answer is on the line. A request's second is
     # counted as of the reader's last read, so it is read, not given up.
-    m = rcl.open(port=pty_board)
+    m = wall_judged
     board = m.board
     read, post = board.port.read, board.post
     armed, stalling = [], threading.Event()
