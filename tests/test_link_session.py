@@ -291,3 +291,18 @@ def test_a_reader_kept_from_reading_for_over_a_second_does_not_give_a_request_up
         assert stalling.is_set() and not board.lost and board.session.state is S.RUNNING
     finally:
         board.close()
+
+
+def test_a_tick_handler_of_many_writes_sends_them_all_in_order():
+    # 25 writes in one tick take two TICK_DONE frames (19 a frame, as a
+    # 64-byte payload holds); 20 in one frame were refused by the encoder,
+    # and the host then waited for ever
+    m = rcl.open(port="rclsim://?rate=4")
+    server = m.board.port.server
+    try:
+        m.evaluate(": MANY  25 0 DO  I 137 PC!  LOOP ;  ' MANY IS CONTROL  50 MS")
+        aux = [v for _, port, v in list(server.board.port_log) if port == 137]
+        whole = len(aux) // 25
+        assert whole >= 4 and aux[:25 * whole] == list(range(25)) * whole
+    finally:
+        m.board.close()

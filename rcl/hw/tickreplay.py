@@ -7,7 +7,7 @@ TICK_DONE exchange (docs/protocol.md sections 4 and 5).
            port operations come here first:
              on the script, in order  -> served from the TICK: no round trip
              off the script            -> writes queued, reads asked of the board
-           -> TICK_DONE frames (at most 20 writes each; the last `final`)
+           -> TICK_DONE frames (at most 19 writes each; the last `final`)
 
 The script is what the software registered (Board.tick_reads): this
 module knows no port and no RCL word, only that the handler starts with
@@ -19,7 +19,9 @@ import time
 
 from rcl.hw import protocol as P
 
-WRITES_PER_FRAME = 20    # TICK_DONE's writes: 3 bytes each, under MAX_PAYLOAD with the header
+# TICK_DONE's writes a frame: 3 bytes each after tick, final and us (5
+# bytes), within MAX_PAYLOAD: 19 (20 made a 65-byte payload, refused)
+WRITES_PER_FRAME = (P.MAX_PAYLOAD - 5) // 3
 # A tick answered later than HOST_LATE is noted: 10 ticks in which RCL's
 # control did not act, at 2 MPH its whole 100-count following limit
 HOST_LATE = 0.100
