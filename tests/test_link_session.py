@@ -306,3 +306,20 @@ def test_a_tick_handler_of_many_writes_sends_them_all_in_order():
         assert whole >= 4 and aux[:25 * whole] == list(range(25)) * whole
     finally:
         m.board.close()
+
+
+def test_a_frame_that_cannot_be_made_uses_no_sequence_number():
+    # (a script of 17 operations is 68 bytes, over a frame's 64): refused
+    # here, and the next request is still the one the board expects, not
+    # one it ignores for ever
+    from rcl.hw.protocol import ProtocolError
+    m = rcl.open(port="rclsim://?rate=4")
+    try:
+        seq = m.board.seq
+        with pytest.raises(ProtocolError):
+            m.board.request("RUN", ops=[(1, 0x8A, 0)] * 17)
+        assert m.board.seq == seq and m.board.pending is None
+        assert m.evaluate("HEX 8A PC@ . DECIMAL") == rcl.open().evaluate("HEX 8A PC@ . DECIMAL")
+        assert not m.board.lost
+    finally:
+        m.board.close()

@@ -45,7 +45,7 @@ US = CLOCK_HZ // 1_000_000
 T0_STOPPED = INH             # T0CON: EN off (INH set to write it), INT off: no tick
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
 REQUEST_GIVE_UP = 1.0        # s of link time with a request unanswered: Link lost (section 3)
-WALL_GIVE_UP = 10.0          # s of wall time: HELLO given up even if no read came back
+WALL_GIVE_UP = 10.0          # s of wall time waited: a request or HELLO given up, whatever the clocks
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
 PORT_ERRORS = (serial.SerialException, OSError, TypeError, AttributeError)
@@ -346,8 +346,8 @@ class LinkBoard(Board):
         self.settle()
         if not self.session.asking:
             raise LinkLost(self.loss or Loss(Cause.NO_ANSWER, "no answer"))
+        data = P.frame(self.seq, name, **values)     # (a frame that cannot be made uses no SEQ)
         seq, self.seq = self.seq, P.following(self.seq)
-        data = P.frame(seq, name, **values)
         now = time.monotonic()
         self.pending = Request(seq, name, data, posted=now, sent_at=now,
                                give_up=self.live.at + REQUEST_GIVE_UP)
@@ -358,9 +358,11 @@ class LinkBoard(Board):
         RETRY_MS; -> the answer (None: nothing in flight, or not yet)."""
         while self.pending is not None:
             req = self.pending
+            began = time.monotonic()
             try:
                 reply = self.replies.get(timeout=P.RETRY_MS / 1000 if block else 0)
             except queue.Empty:
+                req.waited += time.monotonic() - began
                 if self.unanswered(req):
                     self.pending = None
                     raise LinkLost(self.loss or Loss(Cause.NO_ANSWER, "no answer")) from None
@@ -383,9 +385,10 @@ class LinkBoard(Board):
         """Give the request up: the link is lost, or its second of link
         time has passed as of the reader's last read (a host that was not
         run meanwhile has its answer waiting unread), or the reader no
-        longer reads at all."""
+        longer reads at all, or it was waited for WALL_GIVE_UP in all (a
+        lockstep board's time may stand still: no wait runs for ever)."""
         return not self.session.asking or self.live.at > req.give_up \
-            or not self.reader.is_alive()
+            or not self.reader.is_alive() or req.waited > WALL_GIVE_UP
 
     def lose(self, loss, stop=True):
         """The link is gone: say so once, stop the running word."""

@@ -116,4 +116,5 @@ class Request:
     sent_at: float               # wall time of the last send: resent RETRY_MS after it
     give_up: float               # link time (liveness.py) after which the link is lost
     retries: int = 0
+    waited: float = 0.0          # wall time spent waiting for it (at the prompt, none)
     reply: Optional[object] = None   # the answer frame, once it came
