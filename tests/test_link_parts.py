@@ -1,10 +1,11 @@
 """The link's parts on their own, in the protocol's own numbers: the tick
 replay (rcl/hw/tickreplay.py: what the host runs per TICK and the
-TICK_DONE frames it sends) and the judge of a silent board
-(rcl/hw/liveness.py), driven by a clock the test sets."""
+TICK_DONE frames it sends), board frames taken in order (inorder.py) and
+the judge of a silent board (liveness.py), driven by a clock the test sets."""
 import time
 
 from rcl.hw import protocol as P
+from rcl.hw.inorder import GIVE_UP, InOrder
 from rcl.hw.liveness import STALL, Liveness
 from rcl.hw.tickreplay import HOST_LATE, LATE_WINDOW, TickReplay
 
@@ -93,6 +94,52 @@ def test_a_late_answer_to_a_lockstep_board_is_no_lateness():
     r.begin(late)
     r.end(late, lockstep=True)
     assert r.take_late() is None
+
+
+# ------------------------------------------------------ frames in order
+def ack(seq):
+    (f,) = P.FrameReader().feed(P.frame(seq, "ACK", ack=seq))
+    return f
+
+
+def test_until_identify_no_frame_is_taken():
+    frames = InOrder()
+    assert frames.take(ack(1), 0.0, 0.0) == ([], None)
+    frames.restart()
+    ready, nak = frames.take(ack(1), 0.0, 0.0)
+    assert [f.seq for f in ready] == [1] and nak is None and frames.expected == 2
+
+
+def test_a_frame_ahead_is_held_the_missing_one_asked_for_once_per_10_ms_then_all_taken_in_order():
+    frames = InOrder()
+    frames.restart()
+    assert frames.take(ack(3), 0.0, 5.000) == ([], 1)           # 1 and 2 missing: NAK 1
+    assert frames.take(ack(4), 0.0, 5.005) == ([], None)        # not again within 10 ms
+    assert frames.take(ack(5), 0.0, 5.020) == ([], 1)
+    ready, _ = frames.take(ack(1), 0.0, 5.030)
+    assert [f.seq for f in ready] == [1]
+    ready, _ = frames.take(ack(2), 0.0, 5.031)
+    assert [f.seq for f in ready] == [2, 3, 4, 5] and frames.expected == 6 and not frames.held
+    assert frames.take(ack(4), 0.0, 5.032) == ([], None)        # behind: already done
+
+
+def test_board_sequence_numbers_wrap_from_255_to_0():
+    frames = InOrder()
+    frames.restart()
+    frames.expected = 255
+    ready, _ = frames.take(ack(255), 0.0, 0.0)
+    ready2, _ = frames.take(ack(0), 0.0, 0.0)
+    assert [f.seq for f in ready + ready2] == [255, 0] and frames.expected == 1
+
+
+def test_a_gap_held_for_a_second_of_link_time_is_a_frame_gone():
+    frames = InOrder()
+    frames.restart()
+    frames.take(ack(2), 10.0, 0.0)
+    assert not frames.gone(10.0 + GIVE_UP)
+    assert frames.gone(10.0 + GIVE_UP + 0.01)
+    frames.take(ack(1), 11.5, 0.0)                              # it came after all
+    assert not frames.gone(20.0)
 
 
 # ------------------------------------------------------------- liveness

@@ -35,6 +35,7 @@ import serial
 from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
+from rcl.hw.inorder import InOrder
 from rcl.hw.lockstep import HostTime
 from rcl.hw.liveness import Liveness
 from rcl.hw.session import Cause, Loss, Request, Session, State
@@ -128,14 +129,13 @@ class LinkBoard(Board):
             except BaseException:
                 self.session.go(S.CLOSED)
                 raise
-        self.seq, self.expected, self.last_nak, self.held = 1, 1, 0.0, {}
-        self.gap_since, self.pending = 0.0, None
+        self.seq, self.pending = 1, None
         self.last_tx = time.monotonic()
         # Silence is judged on the board's own clock where the port can
         # tell it (rclsim://: a board in this process, which a busy host
         # may keep from running), else on the wall clock less our stalls.
         self.live = Liveness(getattr(self.port, "board_seconds", None))
-        self.before_identify = True           # the stream's frames are the last session's
+        self.frames = InOrder()               # until IDENTIFY: the last session's, dropped
         for q in (self.replies, self.events, self.identify):
             drain(q)
         self.session.go(S.HELLO_SENT)
@@ -275,19 +275,19 @@ class LinkBoard(Board):
                 continue
             if live.silent(P.LOST_MS / 1000):
                 self.lose(Loss(Cause.SILENT, "no frame from the board for %d ms" % P.LOST_MS))
-            elif self.held and at - self.gap_since > REQUEST_GIVE_UP:
+            elif self.frames.gone(at):
                 # the board no longer keeps it (section 3): never wait on
                 self.lose(Loss(Cause.FRAME_GONE,
-                               "board frame %d was not sent again" % self.expected))
+                               "board frame %d was not sent again" % self.frames.expected))
 
     def dispatch(self, f, live):
-        """Board frames are taken in sequence order: one that comes early is
-        held, and the missing one asked for again (NAK). Until IDENTIFY the
-        frames are the last session's, and dropped."""
+        """A board frame read: IDENTIFY (or a HELLO refused) for hello(),
+        the others in sequence order (inorder.py), asking for a missing
+        one again (NAK)."""
         f.arrived = live.looked_at
         live.heard()
         if f.name == "IDENTIFY":
-            self.expected, self.held, self.before_identify = 1, {}, False
+            self.frames.restart()
             drain(self.replies)               # (a HELLO sent again: the session before it)
             drain(self.events)
             self.identify.put(f.values)
@@ -295,25 +295,11 @@ class LinkBoard(Board):
         if f.name == "REFUSED" and f.seq == 0:      # a HELLO refused (a busy board)
             self.identify.put(f.values)
             return
-        if self.before_identify:
-            return
-        d = P.newer(f.seq, self.expected)
-        if d > 0:
-            if not self.held:
-                self.gap_since = live.at      # a frame is missing from here
-            self.held[f.seq] = f
-            if f.arrived - self.last_nak > P.RETRY_MS / 1000:
-                self.last_nak = f.arrived
-                self.send(P.frame(0, "NAK", seq=self.expected))
-            return
-        if d < 0:
-            return
-        while f is not None:
-            self.expected = (self.expected + 1) & 0xFF
+        ready, nak = self.frames.take(f, live.at, f.arrived)
+        if nak is not None:
+            self.send(P.frame(0, "NAK", seq=nak))
+        for f in ready:
             (self.events if f.name in ("TICK", "HEARTBEAT") else self.replies).put(f)
-            f = self.held.pop(self.expected, None)
-        self.last_nak = 0.0
-        self.gap_since = live.at              # (another gap's time starts now)
 
     def send(self, data):
         with self.lock:
