@@ -4,6 +4,7 @@ protocol.py   framing, CRC-16 and the one table of messages (docs/protocol.md)
 link.py       LinkBoard: the host's rcl.board.Board over any pyserial port or usb://
 session.py    the link's states and moves, why a link is lost, the request in flight
 liveness.py   is the board still there: silence judged at reads, in link time
+inorder.py    board frames taken in sequence order (held, NAK, a frame gone)
 tickreplay.py what the host runs per TICK, and its TICK_DONE frames
 lockstep.py   CLOCK and WAIT: the lockstep extension, simulated boards only
 server.py     the board side: a SimBoard served in real time over a byte stream
