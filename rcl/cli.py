@@ -212,9 +212,10 @@ def add_link_args(p):
     """--port, --usb, --list-ports: a board on a link (rcl.hw)."""
     link = p.add_mutually_exclusive_group()
     link.add_argument("--port", metavar="URL",
-                      help="drive a board on a serial port or pyserial URL "
-                           "(/dev/ttyUSB0, socket://127.0.0.1:7000, rclsim://)")
-    link.add_argument("--usb", metavar="VID:PID", help="drive a board on USB (bulk endpoints)")
+                      help="drive a board on a serial port or URL (/dev/ttyUSB0, "
+                           "socket://127.0.0.1:7000, usb://1209:0001, usb://sim, rclsim://)")
+    link.add_argument("--usb", metavar="VID:PID",
+                      help="the same as --port usb://VID:PID (bulk endpoints)")
     p.add_argument("--list-ports", action="store_true",
                    help="list serial ports and USB boards, then leave")
 

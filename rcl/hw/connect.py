@@ -1,10 +1,15 @@
-"""Opening a link: a pyserial URL or device (`rcl --port`), a USB device
-(`rcl --usb`), and `rcl --list-ports`; the usual failures said plainly.
+"""Opening a link: a URL or device (`rcl --port`), and `rcl --list-ports`;
+the usual failures said plainly. Every transport is a URL:
 
     open_link(port="socket://127.0.0.1:7000")  -> LinkBoard
     open_link(port="/dev/ttyUSB0")             (115200 baud, 8N1, exclusive)
     open_link(port="rclsim://")                (a simulated board in-process)
-    open_link(usb="1209:5252")                 (vendor-class bulk endpoints)
+    open_link(port="usb://1209:0001")          (vendor-class bulk endpoints, VID:PID)
+    open_link(port="usb://sim")                (the simulated board as a USB device)
+    open_link(usb="1209:0001")                 (`rcl --usb`: the same as usb://1209:0001)
+
+usb:// is rcl's (rcl/hw/usb.py, through pyusb); every other URL is
+pyserial's, rclsim:// included (rcl/hw/urlhandler/).
 
 A board that resets when its port opens (Arduino-class boards do, on DTR)
 is waited for: the handshake repeats HELLO for up to HELLO_WAIT seconds and
@@ -21,13 +26,25 @@ from rcl.hw.protocol import LinkError
 BAUD = 115200
 
 
+USB = "usb://"
+
+
 def open_link(port=None, usb=None):
-    """A LinkBoard on the port URL or the USB device (VID:PID)."""
+    """A LinkBoard on the port URL (usb="VID:PID" is port="usb://VID:PID")."""
     from rcl.hw.link import LinkBoard
-    if usb is not None:
-        from rcl.hw.usb import usb_opener
-        return LinkBoard(usb_opener(usb))
-    return LinkBoard(lambda: open_serial(port))
+    url = USB + usb if usb is not None else port
+    if url.startswith(USB):
+        return LinkBoard(usb_opener(url))
+    return LinkBoard(lambda: open_serial(url))
+
+
+def usb_opener(url):
+    """The opener of a usb:// URL (pyusb is needed only here)."""
+    try:
+        from rcl.hw import usb
+    except ImportError:
+        raise LinkError("%s: USB needs pyusb (pip install pyusb) and libusb-1.0" % url) from None
+    return usb.usb_opener(url[len(USB):])
 
 
 def open_serial(url):

@@ -1,22 +1,25 @@
 """LinkBoard: the host's rcl.board.Board for a board at the other end of a
-serial link (any pyserial URL or device), speaking the frame protocol of
-docs/protocol.md.
+serial link (any pyserial URL or device, or usb://), speaking the frame
+protocol of docs/protocol.md.
 
-    Forth machine --- out8/in8/... ---> LinkBoard --- request ---> port
-                  <-- service: TICK ---            <-- reader thread --
-                                                       (frames, NAK, PING)
+    Forth machine --- out8/in8/... ---> LinkBoard --- Request ---> port
+                  <-- service: TICK ---     |      <-- reader thread --
+                                            |          (frames, NAK, PING)
+              session.py  the state machine (CLOSED .. RUNNING .. LOST)
+              liveness.py is the board still there (250 ms, 1 s)
+              tickreplay.py  what runs per TICK, and TICK_DONE
+              lockstep.py    CLOCK and WAIT: simulated boards only
 
-Requests are stop-and-wait: one sequenced frame out, resent every RETRY_MS
-until its ACK or VALUE comes. The reader thread decodes what the board
-sends, keeps board frames in order (go-back-N with NAK), sends a PING when
-nothing went out for KEEPALIVE_MS, and notices a silent board.
+Requests are stop-and-wait: one sequenced frame out (a Request), resent
+every RETRY_MS until its ACK or VALUE comes. The reader thread decodes what
+the board sends, keeps board frames in order (go-back-N with NAK), sends a
+PING when nothing went out for KEEPALIVE_MS, and judges a silent board.
 
 Time: the board's ticks are the clock. `due` is the virtual time of the
 next tick (the last tick's board time plus the period); when the machine
 gets there, `service` waits for the real TICK, moves the machine's clock to
-the board's time (catch_up, never back) and runs INT 1Ch. Inside that
-handler, reads the per-tick script covers are served from the TICK's
-results, and the handler's writes go back as one TICK_DONE.
+the board's time (catch_up, never back) and runs INT 1Ch through the
+TickReplay.
 
 A silent link (LOST_MS) or a failed port is "Link lost": the running word
 is stopped at its next primitive boundary (machine.request_stop), the board
@@ -32,22 +35,30 @@ import serial
 from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
-from rcl.i80188 import INH, PCB_BASE
+from rcl.hw.inorder import InOrder
+from rcl.hw.lockstep import HostTime
+from rcl.hw.liveness import Liveness
+from rcl.hw.session import Cause, Loss, Request, Session, State
+from rcl.hw.tickreplay import TickReplay
+from rcl.i80188 import INH, PCB_BASE, T0_CONTROL
 
 US = CLOCK_HZ // 1_000_000
 T0_STOPPED = INH             # T0CON: EN off (INH set to write it), INT off: no tick
 BACKLOG = 25                 # ticks queued beyond this (the host was away) are counted, not run
-REQUEST_GIVE_UP = 1.0        # seconds of unanswered retries before Link lost (silence_clock's)
+REQUEST_GIVE_UP = 1.0        # s of link time with a request unanswered: Link lost (section 3)
+WALL_GIVE_UP = 10.0          # s of wall time waited: a request or HELLO given up, whatever the clocks
 HELLO_WAIT = 3.0             # seconds to wait for IDENTIFY (a board resetting on open)
 RECONNECT_AFTER = 0.5        # a lost link is tried again at most this often
-STALL = 0.030                # s: a longer gap between the reader's reads is this process's stall
-# A tick answered later than HOST_LATE is noted: 10 ticks in which RCL's
-# control did not act, at 2 MPH its whole 100-count following limit
-HOST_LATE = 0.100
-LATE_WINDOW = 100            # ticks: a late answer this recent explains the error after it
+PORT_ERRORS = (serial.SerialException, OSError, TypeError, AttributeError)
+S = State
+
 
 class LinkLost(P.LinkError):
-    """The board stopped answering."""
+    """The board stopped answering (`loss` says how)."""
+
+    def __init__(self, loss):
+        super().__init__(str(loss))
+        self.loss = loss
 
 
 def link_lost():
@@ -58,23 +69,22 @@ class LinkBoard(Board):
     """A board over a link; `open_port()` -> an open pyserial port."""
 
     def __init__(self, open_port, script=()):
-        self.open_port, self.script = open_port, list(script)
-        self.port = None
+        self.open_port = open_port
+        self.session = Session()
+        self.replay = TickReplay(script)
+        self.port = self.reader = self.pending = self.lockstep = None
         self.lock = threading.Lock()          # one writer on the port at a time
         self.replies = queue.Queue()
         self.events = queue.Queue()           # TICK and HEARTBEAT frames, in order
         self.identify = queue.Queue()
-        self.reader = None
         self.stopping = threading.Event()
-        self.lost, self.lost_at, self.why = False, 0.0, ""
-        self.ticks = self.skipped = self.retries = 0
-        self.late = 0                         # ticks run more than 2 ms after they came
-        self.late_answer = None               # (delay s, tick, self.ticks): the worst recent
-        self.period = 10_000 * US
-        self.board_clock = None               # virtual time of the last tick
+        self.live = Liveness()
+        self.loss, self.lost_at = None, 0.0
+        self.skipped = self.retries = 0
+        self.period = self.replay.period = 10_000 * US
+        self.ticking = False
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
         self.bytes_out = self.bytes_in = 0
-        self.in_tick = False
         self.name = ""
         try:
             self.connect()
@@ -82,23 +92,53 @@ class LinkBoard(Board):
             self.close()                      # no thread or open port left behind
             raise
 
+    # ------------------------------------------------------- what it is in
+    @property
+    def lost(self):
+        """The board cannot be asked (lost, closed, or not yet identified)."""
+        return not self.session.asking
+
+    @property
+    def why(self):
+        return str(self.loss) if self.loss is not None else ""
+
+    @property
+    def ticks(self):
+        return self.replay.ticks
+
+    @property
+    def late(self):
+        return self.replay.late
+
+    @property
+    def late_answer(self):
+        return self.replay.late_answer
+
+    @property
+    def in_tick(self):
+        return self.replay.active
+
     # ------------------------------------------------------------ session
     def connect(self, reopen=True):
         """Open the port (reopen=False: keep the one open), HELLO until
         IDENTIFY, register the tick script."""
         if reopen:
-            self.port = self.open_port()
-        self.seq, self.expected, self.last_nak, self.held = 1, 1, 0.0, {}
-        self.pending = None                   # [seq, frame, name, give up, sent at]: not yet answered
+            self.session.go(S.OPENING)
+            try:
+                self.port = self.open_port()
+            except BaseException:
+                self.session.go(S.CLOSED)
+                raise
+        self.seq, self.pending = 1, None
         self.last_tx = time.monotonic()
         # Silence is judged on the board's own clock where the port can
         # tell it (rclsim://: a board in this process, which a busy host
-        # may keep from running), else on the wall clock.
-        self.silence_clock = getattr(self.port, "board_seconds", time.monotonic)
-        self.last_rx = self.silence_clock()
+        # may keep from running), else on the wall clock less our stalls.
+        self.live = Liveness(getattr(self.port, "board_seconds", None))
+        self.frames = InOrder()               # until IDENTIFY: the last session's, dropped
         for q in (self.replies, self.events, self.identify):
             drain(q)
-        self.lost, self.why = True, ""         # until IDENTIFY: the reader keeps quiet
+        self.session.go(S.HELLO_SENT)
         if reopen or not self.reader.is_alive():
             self.stopping.clear()
             self.reader = threading.Thread(target=self.read_loop, daemon=True,
@@ -108,38 +148,55 @@ class LinkBoard(Board):
         # request gets, not half a second, too little on a loaded machine)
         ident = self.hello(HELLO_WAIT if reopen else REQUEST_GIVE_UP)
         if ident["version"] != P.VERSION:
+            self.no_session("The board speaks protocol version %d; this rcl speaks "
+                            "version %d. Update the board's firmware or rcl."
+                            % (ident["version"], P.VERSION))
             self.close()
-            raise P.LinkError("The board speaks protocol version %d; this rcl speaks "
-                              "version %d. Update the board's firmware or rcl."
-                              % (ident["version"], P.VERSION))
+            raise P.LinkError(str(self.loss))
         self.name, self.period = ident["name"], ident["tick_us"] * US
-        self.lockstep = bool(ident["flags"] & P.FLAG_LOCKSTEP)
-        self.lost = False
-        self.request("SNAPSHOT", ops=self.script)
-        self.board_clock, self.ticking, self.last_us = None, False, None
-        self.follows = self.lockstep          # lockstep, no tick yet: the board keeps our time
-        self.told_us = 0                      # ... and has it up to here (CLOCK)
+        self.replay.period = self.period
+        self.replay.new_session()
+        # the lockstep extension: only a board that says it is simulated
+        self.lockstep = HostTime() if ident["flags"] & P.FLAG_LOCKSTEP else None
+        self.loss, self.ticking = None, False
+        self.session.go(S.IDENTIFIED)
+        try:
+            self.request("SNAPSHOT", ops=self.replay.script)
+        except LinkLost as e:
+            self.lose(e.loss, stop=False)
+            raise
+        self.session.go(S.RUNNING)
         if self.machine is not None:
-            self.time_zero = self.machine.clock
+            if self.lockstep is not None:
+                self.lockstep.time_zero = self.machine.clock
             self.due = self.machine.clock      # is it ticking? service finds out
             self.machine.reschedule()
 
     def hello(self, wait):
-        deadline = time.monotonic() + wait
-        while time.monotonic() < deadline:
+        """HELLO every 100 ms until IDENTIFY, for `wait` seconds of this
+        process's own time; -> IDENTIFY's values."""
+        begun, wall = self.live.host_time(), time.monotonic()
+        while self.live.host_time() - begun < wait and time.monotonic() - wall < WALL_GIVE_UP:
             self.send(P.frame(0, "HELLO", version=P.VERSION))
             try:
                 ident = self.identify.get(timeout=0.1)
             except queue.Empty:
-                if self.lost and self.why.startswith("port"):
-                    break
+                if self.session.state is not S.HELLO_SENT or not self.reader.is_alive():
+                    break                     # the port failed
                 continue
             if "reason" in ident:                 # REFUSED, SEQ 0: no session for us
-                raise P.LinkError("The board on %s refused a session: %s"
-                                  % (self.port_name(), ident["reason"]))
+                raise P.LinkError(self.no_session("The board on %s refused a session: %s"
+                                                  % (self.port_name(), ident["reason"])))
             return ident
-        raise P.LinkError("No answer from a board on %s (is rcl-board or the "
-                          "firmware running, at 115200 baud?)" % self.port_name())
+        raise P.LinkError(self.no_session(
+            "No answer from a board on %s (is rcl-board or the firmware running, at "
+            "115200 baud?)" % self.port_name()))
+
+    def no_session(self, text):
+        """HELLO got no session: the link is lost, for this reason; -> text."""
+        if self.session.leave({S.HELLO_SENT}, S.LOST):
+            self.loss, self.lost_at = Loss(Cause.NO_SESSION, text), time.monotonic()
+        return text
 
     def port_name(self):
         return getattr(self.port, "portstr", None) or getattr(self.port, "port", "?")
@@ -147,13 +204,15 @@ class LinkBoard(Board):
     def close(self):
         """Leaving: a board that still hears is left safe and quiet (SAFE,
         then timer 0 stopped), then the port closed."""
-        if self.port is not None and not self.lost and self.machine is not None \
+        if self.session.leave({S.RUNNING}, S.LEAVING) and self.machine is not None \
                 and self.reader is not threading.current_thread():
             try:
                 self.request("SAFE")
-                self.request("OUT16", port=PCB_BASE + 0x56, value=T0_STOPPED)
+                self.request("OUT16", port=PCB_BASE + T0_CONTROL, value=T0_STOPPED)
             except (P.LinkError, serial.SerialException, OSError):
                 pass
+        self.session.leave({S.HELLO_SENT, S.IDENTIFIED}, S.LOST)
+        self.session.leave({S.LEAVING, S.LOST}, S.CLOSED)
         self.stopping.set()
         if self.port is None:
             return
@@ -168,7 +227,7 @@ class LinkBoard(Board):
         try:
             self.reopen()
         except (P.LinkError, serial.SerialException, OSError) as e:
-            self.lost, self.lost_at, self.why = True, time.monotonic(), str(e)
+            self.not_reconnected(e)
             self.due = None
             return "Link lost: %s" % e
         return "Link up: %s, protocol %d" % (self.name, P.VERSION)
@@ -176,94 +235,90 @@ class LinkBoard(Board):
     def reopen(self):
         """Connect again: the same port if it still works (the board was
         only silent), else the port opened anew (a closed connection)."""
-        failed = self.why.startswith("port") or not getattr(self.port, "is_open", False)
+        failed = (self.loss is not None and self.loss.cause is Cause.PORT) \
+            or not getattr(self.port, "is_open", False)
         if failed:
             self.close()
         self.connect(reopen=failed)
 
+    def not_reconnected(self, e):
+        """Connecting again failed: the port would not open (CLOSED), or
+        the board gave no session on it (LOST)."""
+        cause = Cause.PORT if self.session.state is S.CLOSED else Cause.NO_SESSION
+        self.loss, self.lost_at = Loss(cause, str(e)), time.monotonic()
+
     def attach(self, machine):
         super().attach(machine)
-        self.time_zero = machine.clock        # HELLO's moment, in the host's time
+        if self.lockstep is not None:
+            self.lockstep.time_zero = machine.clock     # HELLO's moment, in the host's time
         self.due = machine.clock
         machine.reschedule()
 
     # ------------------------------------------------------- reader thread
     def read_loop(self):
         reader = P.FrameReader(P.received_by(P.HOST))    # board types only (section 1)
-        looked_at = time.monotonic()
         while not self.stopping.is_set():
             try:
                 data = self.port.read(max(1, self.port.in_waiting))
-            except (serial.SerialException, OSError, TypeError, AttributeError) as e:
-                self.why = "port: %s" % e
-                self.lose(self.why)
+            except PORT_ERRORS as e:
+                self.port_failed(e)
                 return
-            now = time.monotonic()
-            self.was_away(now - looked_at)
-            looked_at = now
+            live = self.live
+            at = live.look()                  # everything waiting is read: judge now
             if data:
                 self.bytes_in += len(data)
                 for f in reader.feed(data):
-                    self.dispatch(f, now)
-            if now - self.last_tx > P.KEEPALIVE_MS / 1000:
+                    self.dispatch(f, live)
+            if time.monotonic() - self.last_tx > P.KEEPALIVE_MS / 1000:
                 self.send(P.frame(0, "PING"))
-            if self.silent() and not self.lost:
-                self.lose("no frame from the board for %d ms" % P.LOST_MS)
-            if self.held and now - self.gap_since > REQUEST_GIVE_UP and not self.lost:
+            if not self.session.asking:
+                continue
+            if live.silent(P.LOST_MS / 1000):
+                self.lose(Loss(Cause.SILENT, "no frame from the board for %d ms" % P.LOST_MS))
+            elif self.frames.gone(at):
                 # the board no longer keeps it (section 3): never wait on
-                self.lose("board frame %d was not sent again" % self.expected)
+                self.lose(Loss(Cause.FRAME_GONE,
+                               "board frame %d was not sent again" % self.frames.expected))
 
-    def was_away(self, seconds):
-        """This thread's last read came back this much later (a read waits
-        10 ms at most): beyond STALL it was a busy machine keeping this
-        process waiting, most likely the board's as well, and a wall-clock
-        silence does not count that time (it still counts STALL of each)."""
-        if seconds > STALL and self.silence_clock is time.monotonic:
-            self.last_rx += seconds - STALL
-
-    def silent(self):
-        """Nothing from the board for LOST_MS (of its own time, where known)."""
-        return self.silence_clock() - self.last_rx > P.LOST_MS / 1000
-
-    def dispatch(self, f, now):
-        """Board frames are taken in sequence order: one that comes early is
-        held, and the missing one asked for again (NAK)."""
-        f.arrived = now
-        self.last_rx = self.silence_clock()
+    def dispatch(self, f, live):
+        """A board frame read: IDENTIFY (or a HELLO refused) for hello(),
+        the others in sequence order (inorder.py), asking for a missing
+        one again (NAK)."""
+        f.arrived = live.looked_at
+        live.heard()
         if f.name == "IDENTIFY":
-            self.expected, self.held = 1, {}
+            self.frames.restart()
+            drain(self.replies)               # (a HELLO sent again: the session before it)
+            drain(self.events)
             self.identify.put(f.values)
             return
         if f.name == "REFUSED" and f.seq == 0:      # a HELLO refused (a busy board)
             self.identify.put(f.values)
             return
-        d = P.newer(f.seq, self.expected)
-        if d > 0:
-            if not self.held:
-                self.gap_since = now          # a frame is missing from here
-            self.held[f.seq] = f
-            if now - self.last_nak > P.RETRY_MS / 1000:
-                self.last_nak = now
-                self.send(P.frame(0, "NAK", seq=self.expected))
-            return
-        if d < 0:
-            return
-        while f is not None:
-            self.expected = (self.expected + 1) & 0xFF
+        ready, nak = self.frames.take(f, live.at, f.arrived)
+        if nak is not None:
+            self.send(P.frame(0, "NAK", seq=nak))
+        for f in ready:
             (self.events if f.name in ("TICK", "HEARTBEAT") else self.replies).put(f)
-            f = self.held.pop(self.expected, None)
-        self.last_nak = 0.0
-        self.gap_since = now                  # (another gap's time starts now)
 
     def send(self, data):
         with self.lock:
             try:
                 self.port.write(data)
-            except (serial.SerialException, OSError, TypeError, AttributeError) as e:
-                self.lost, self.why = True, "port: %s" % e
+            except PORT_ERRORS as e:
+                failed = e
+            else:
+                self.bytes_out += len(data)
+                self.last_tx = time.monotonic()
                 return
-            self.bytes_out += len(data)
-            self.last_tx = time.monotonic()
+        self.port_failed(failed)              # (outside the lock: it sends SAFE)
+
+    def port_failed(self, e):
+        loss = Loss(Cause.PORT, "port: %s" % e)
+        if self.session.leave({S.HELLO_SENT}, S.LOST):
+            self.loss, self.lost_at = loss, time.monotonic()
+        else:
+            self.lose(loss)
 
     # ----------------------------------------------------------- requests
     def request(self, name, /, **values):
@@ -275,42 +330,56 @@ class LinkBoard(Board):
         """Send a sequenced frame without waiting for its answer (the
         answer to the one before is waited for first: one in flight)."""
         self.settle()
-        if self.lost:
-            raise LinkLost(self.why)
+        if not self.session.asking:
+            raise LinkLost(self.loss or Loss(Cause.NO_ANSWER, "no answer"))
+        data = P.frame(self.seq, name, **values)     # (a frame that cannot be made uses no SEQ)
         seq, self.seq = self.seq, P.following(self.seq)
-        data = P.frame(seq, name, **values)
-        self.pending = [seq, data, name, self.silence_clock() + REQUEST_GIVE_UP, time.monotonic()]
+        now = time.monotonic()
+        self.pending = Request(seq, name, data, posted=now, sent_at=now,
+                               give_up=self.live.at + REQUEST_GIVE_UP)
         self.send(data)
 
     def settle(self, block=True):
         """Wait for the answer to the frame in flight, resending it every
         RETRY_MS; -> the answer (None: nothing in flight, or not yet)."""
         while self.pending is not None:
-            seq, data, name, give_up, sent_at = self.pending
+            req = self.pending
+            began = time.monotonic()
             try:
                 reply = self.replies.get(timeout=P.RETRY_MS / 1000 if block else 0)
             except queue.Empty:
-                if self.lost or self.silence_clock() > give_up:
+                req.waited += time.monotonic() - began
+                if self.unanswered(req):
                     self.pending = None
-                    raise LinkLost(self.why or "no answer") from None
-                if time.monotonic() - sent_at >= P.RETRY_MS / 1000:
+                    raise LinkLost(self.loss or Loss(Cause.NO_ANSWER, "no answer")) from None
+                if time.monotonic() - req.sent_at >= P.RETRY_MS / 1000:
+                    req.retries += 1
                     self.retries += 1
-                    self.pending[4] = time.monotonic()
-                    self.send(data)
+                    req.sent_at = time.monotonic()
+                    self.send(req.data)
                 if not block:
                     return None
                 continue
-            if reply["ack"] == seq:
-                self.pending = None
+            if reply["ack"] == req.seq:
+                req.reply, self.pending = reply, None
                 if reply.name == "REFUSED":
-                    raise P.LinkError("The board refused %s: %s" % (name, reply["reason"]))
+                    raise P.LinkError("The board refused %s: %s" % (req.name, reply["reason"]))
                 return reply
         return None
 
-    def lose(self, why, stop=True):
+    def unanswered(self, req):
+        """Give the request up: the link is lost, or its second of link
+        time has passed as of the reader's last read (a host that was not
+        run meanwhile has its answer waiting unread), or the reader no
+        longer reads at all, or it was waited for WALL_GIVE_UP in all (a
+        lockstep board's time may stand still: no wait runs for ever)."""
+        return not self.session.asking or self.live.at > req.give_up \
+            or not self.reader.is_alive() or req.waited > WALL_GIVE_UP
+
+    def lose(self, loss, stop=True):
         """The link is gone: say so once, stop the running word."""
-        if not self.lost:
-            self.lost, self.lost_at, self.why = True, time.monotonic(), why
+        if self.session.leave({S.IDENTIFIED, S.RUNNING, S.LEAVING}, S.LOST):
+            self.loss, self.lost_at = loss, time.monotonic()
             self.send(P.frame(self.seq, "SAFE"))       # if the board still hears
             m = self.machine
             if stop and m is not None and (m.in_forth or m.masked):
@@ -323,9 +392,9 @@ class LinkBoard(Board):
         (its safe-state relay writes) finds it quietly unusable; any other
         request finds it reconnected, or is stopped with Link lost (a read
         on a lost link has no true answer to give)."""
-        if not self.lost:
+        if self.session.asking:
             return True
-        if self.in_tick or self.machine.in_safe_state:
+        if self.replay.active or self.machine.in_safe_state:
             return False
         if time.monotonic() - self.lost_at < RECONNECT_AFTER:
             self.machine.request_stop(link_lost())
@@ -334,7 +403,7 @@ class LinkBoard(Board):
         try:
             self.reopen()
         except (P.LinkError, serial.SerialException, OSError) as e:
-            self.lost, self.lost_at, self.why = True, time.monotonic(), str(e)
+            self.not_reconnected(e)
             self.machine.request_stop(link_lost())   # taken at the next primitive boundary
             return False
         # A new session: the board is as at power-on, so the word that was
@@ -355,19 +424,19 @@ class LinkBoard(Board):
                 return True
             return self.request(name, **values)
         except LinkLost as e:
-            self.lose(str(e))
+            self.lose(e.loss)
             return None
 
     def tell_time(self):
-        """A lockstep board whose timer does not tick keeps the host's time:
-        before a port or memory access, tell it how far the host has come
-        (CLOCK), so the access lands where the simulation has it."""
-        if not self.follows or self.in_tick or self.machine is None:
+        """The lockstep extension (simulated boards only): a board whose
+        timer does not tick keeps the host's time; before a port or memory
+        access, tell it how far the host has come (CLOCK), so the access
+        lands where the simulation has it."""
+        if self.lockstep is None or self.replay.active or self.machine is None:
             return
-        us = (self.machine.clock - self.time_zero) // US
-        if us != self.told_us:
-            self.post("CLOCK", us=us & 0xFFFFFFFF)
-            self.told_us = us
+        us = self.lockstep.clock_us(self.machine.clock)
+        if us is not None:
+            self.post("CLOCK", us=us)
 
     def tick_reads(self, ops):
         """What the software's tick handler reads first (RCL's counter
@@ -375,26 +444,29 @@ class LinkBoard(Board):
         with the TICK, so a tick costs no round trip. Kept for the next
         connect."""
         ops = [tuple(op) for op in ops]
-        if ops == self.script:                # this session has it already
+        if ops == self.replay.script:         # this session has it already
             return
-        self.script = ops
+        self.replay.script = ops
         if not self.usable():
             return
         try:                                  # not a port access: no CLOCK before it, so
-            self.request("SNAPSHOT", ops=self.script)   # a lockstep board's time moves as before
+            self.request("SNAPSHOT", ops=ops)   # a lockstep board's time moves as before
         except LinkLost as e:
-            self.lose(str(e))
+            self.lose(e.loss)
 
     # ------------------------------------------------------------ port I/O
     def out8(self, port, byte):
-        if self.in_tick:
-            return self.tick_out8(port, byte)
+        if self.replay.active:
+            return self.replay.out8(port, byte)
         if self.io("OUT8", port=port, value=byte) is not None:
             self.sent_writes.append((port, byte))
 
     def in8(self, port):
-        if self.in_tick:
-            return self.tick_in8(port)
+        if self.replay.active:
+            value = self.replay.in8(port)
+            if value is not None:
+                return value
+            self.flush_tick_writes()          # off the script: the board is asked
         reply = self.io("IN8", port=port)
         return 0xFF if reply is None else reply["value"] & 0xFF
 
@@ -403,7 +475,7 @@ class LinkBoard(Board):
             return super().out16(port, word)
         self.flush_tick_writes()
         self.io("OUT16", port=port, value=word)
-        if not self.in_tick and not self.lost:
+        if not self.replay.active and not self.lost:
             # The timer may tick now: wait for its first tick a period on (a
             # HEARTBEAT says if none comes), so the host's time meets it there.
             self.ticking = True
@@ -418,7 +490,7 @@ class LinkBoard(Board):
         return 0xFFFF if reply is None else reply["value"]
 
     def port_script(self, ops):
-        if self.in_tick:
+        if self.replay.active:
             return super().port_script(ops)    # from the tick's results where it can
         ops = list(ops)
         reply = self.io("RUN", ops=ops)
@@ -450,27 +522,28 @@ class LinkBoard(Board):
         if not self.usable():
             self.due = None
             return
-        if self.follows:
+        following = self.lockstep is not None and self.lockstep.follows
+        if following:
             try:
                 self.tell_time()
                 self.settle()
             except LinkLost as e:
-                self.lose(str(e))
+                self.lose(e.loss)
                 return
         while True:
-            event = self.next_event(block=self.ticking and not self.follows)
+            event = self.next_event(block=self.ticking and not following)
             if event is None:
-                if not self.lost:
+                if self.session.asking:
                     self.due = m.clock + self.period
                 return
             if event.name == "TICK":
                 self.ticking = True
                 return self.run_tick(m, event)
             self.ticking = bool(event["ticking"])
-            if not self.ticking and self.lockstep:
-                self.follows = True            # the board keeps our time again
+            if not self.ticking and self.lockstep is not None:
+                self.lockstep.follows = following = True   # the board keeps our time again
             elif not self.ticking:
-                m.catch_up(self.heartbeat_time(event["time_us"]))
+                m.catch_up(self.replay.heartbeat_time(event["time_us"], m.clock, US))
 
     def next_event(self, block):
         """The next TICK or HEARTBEAT (None: none waiting, when not to
@@ -480,11 +553,11 @@ class LinkBoard(Board):
             f = self.events.get()
             if f.name == "TICK":
                 self.skipped += 1
-                self.log_script_writes()
+                self.sent_writes.extend(self.replay.script_writes())
         waited = 0.0
         # a lockstep board waits for our WAIT: look often; a free-running
         # one ticks on its own: wake only to resend a lost TICK_DONE
-        poll = 0.002 if self.lockstep or not block else P.RETRY_MS / 2000
+        poll = 0.002 if self.lockstep is not None or not block else P.RETRY_MS / 2000
         try:
             while True:
                 try:
@@ -493,119 +566,58 @@ class LinkBoard(Board):
                     self.settle(block=False)      # the last TICK_DONE, resent if lost
                     if not block:
                         return None
-                    if self.lockstep and time.monotonic() - waited > P.RETRY_MS / 1000:
+                    if self.lockstep is not None and time.monotonic() - waited > P.RETRY_MS / 1000:
                         waited = time.monotonic()
-                        self.send(P.frame(0, "WAIT", tick=self.next_tick()))
+                        self.send(P.frame(0, "WAIT", tick=self.replay.next_tick()))
                     # Silence is the reader thread's to judge, after it has
                     # read what waits: a process that was not scheduled for a
-                    # while would find last_rx old here with frames unread.
+                    # while would find the last frame old here with frames unread.
                     if self.lost:
-                        raise LinkLost(self.why or "no tick") from None
+                        raise LinkLost(self.loss or Loss(Cause.NO_ANSWER, "no tick")) from None
         except LinkLost as e:
-            self.lose(str(e))
+            self.lose(e.loss)
             return None
 
-    def next_tick(self):
-        """The number of the tick waited for (0xFFFF: not known yet)."""
-        return 0xFFFF if self.board_clock is None else (self.last_tick + 1) & 0xFFFF
-
-    def board_time(self, tick):
-        """The virtual time of tick number `tick` (ticks are a period apart;
-        the number wraps at 2**16)."""
-        if self.board_clock is None:
-            self.board_clock, self.last_tick = self.machine.clock, tick
-        self.board_clock += ((tick - self.last_tick) & 0xFFFF) * self.period
-        self.last_tick = tick
-        return self.board_clock
-
-    def heartbeat_time(self, time_us):
-        """The virtual time of a HEARTBEAT while no tick comes."""
-        if self.last_us is None:
-            self.last_us = time_us
-        t = self.machine.clock + ((time_us - self.last_us) & 0xFFFFFFFF) * US
-        self.last_us = time_us
-        return t
-
     def run_tick(self, m, tick):
-        self.ticks += 1
-        self.follows = False                  # from here the ticks are the clock
-        self.late += time.monotonic() - tick.arrived > 0.002
-        m.catch_up(self.board_time(tick["tick"]))
-        self.log_script_writes()
-        self.results = [r for (r,) in tick["results"]]
-        self.at, self.taken, self.writes = 0, 0, []
-        self.tick_number = tick["tick"]
-        self.in_tick = True
+        """One TICK: the machine's time to the tick's, then its handler,
+        replayed (tickreplay.py), its writes sent as TICK_DONE."""
+        replay = self.replay
+        if self.lockstep is not None:
+            self.lockstep.follows = False     # from here the ticks are the clock
+        m.catch_up(replay.board_time(tick["tick"], m.clock))
+        self.sent_writes.extend(replay.script_writes())
+        replay.begin(tick)
         try:
             m.run_handler(tick["off"])
         finally:
             self.flush_tick_writes(final=True)
-            self.in_tick = False
-            self.note_answer(tick)
-        self.due = self.board_clock + self.period         # the next tick's time, queued or not
+            replay.end(tick, self.lockstep is not None)
+        self.due = replay.next_due()          # the next tick's time, queued or not
 
-    # ------------------------------------------------ a host that is late
-    def note_answer(self, tick):
-        """The host's own delay answering a tick (its TICK read to the final
-        TICK_DONE sent). A board that does not wait for the host (no
-        lockstep flag) runs on meanwhile: a delay over HOST_LATE is noted,
-        the worst of the last LATE_WINDOW ticks kept."""
-        delay = time.monotonic() - tick.arrived
-        worst = self.late_answer
-        if delay > HOST_LATE and not self.lockstep and (
-                worst is None or delay >= worst[0] or self.ticks - worst[2] > LATE_WINDOW):
-            self.late_answer = (delay, tick["tick"], self.ticks)
+    def flush_tick_writes(self, final=False):
+        """The handler's writes so far, in order, as TICK_DONE frames; the
+        last one (final) also tells a lockstep board the handler ended."""
+        replay = self.replay
+        if not replay.active or not (replay.writes or final):
+            return
+        us = max(0, min(0xFFFF, (self.machine.clock - replay.board_clock) // US))
+        for values in replay.done_frames(final, us):
+            if self.io("TICK_DONE", wait=False, **values) is None:
+                return
+            self.sent_writes.extend(values["writes"])
 
     def explain(self, error):
         """A following error that comes after the host answered a tick
         late is the host's doing, not the motors': say so, with the figure
         (docs/protocol.md section 5). A lost link stays Link lost: a cut
         line is the truth whatever the host did before it."""
-        late, self.late_answer = self.late_answer, None
-        if late is None or self.ticks - late[2] > LATE_WINDOW \
-                or error.message != "Following error":
+        late = self.replay.take_late()
+        if late is None or error.message != "Following error":
             return error
         e = ForthError(-293, "Host too slow: answered tick %d after %d ms"
                        % (late[1], round(late[0] * 1000)))
         e.file, e.line = error.file, error.line
         return e
-
-    def log_script_writes(self):
-        self.sent_writes.extend((port, value) for op, port, value in self.script
-                                if op == P.SCRIPT_OUT)
-
-    def tick_out8(self, port, byte):
-        if self.at < len(self.script) and self.script[self.at] == (P.SCRIPT_OUT, port, byte):
-            self.at += 1                      # the board did it at the tick
-            return
-        self.at = len(self.script)            # off the script from here on
-        self.writes.append((port, byte))
-
-    def tick_in8(self, port):
-        s = self.script
-        if self.at < len(s) and s[self.at][0] == P.SCRIPT_IN and s[self.at][1] == port:
-            self.at += 1
-            self.taken += 1
-            return self.results[self.taken - 1]
-        self.at = len(s)
-        self.flush_tick_writes()
-        reply = self.io("IN8", port=port)
-        return 0xFF if reply is None else reply["value"] & 0xFF
-
-    def flush_tick_writes(self, final=False):
-        """The handler's writes so far, in order, as TICK_DONE frames; the
-        last one (final) also tells a lockstep board the handler ended."""
-        if not self.in_tick or not (self.writes or final):
-            return
-        writes, self.writes = self.writes, []
-        for i in range(0, max(1, len(writes)), 20):
-            part = writes[i:i + 20]
-            last = final and i + 20 >= len(writes)
-            us = min(0xFFFF, (self.machine.clock - self.board_clock) // US)
-            if self.io("TICK_DONE", wait=False, tick=self.tick_number, final=int(last),
-                       us=max(0, us), writes=part) is None:
-                return
-            self.sent_writes.extend(part)
 
     # -------------------------------------------------------------- safety
     def stop_motors(self):
@@ -614,20 +626,22 @@ class LinkBoard(Board):
         if not self.lost:
             try:
                 self.request("SAFE")
-            except (LinkLost, P.LinkError):
-                self.lose("no answer to SAFE")
+            except P.LinkError:
+                self.lose(Loss(Cause.NO_ANSWER, "no answer to SAFE"))
 
     def tick_failed(self):
-        self.in_tick = False
+        self.replay.active = False
         if not self.lost:
             try:
                 self.request("TICK_FAILED")
-            except (LinkLost, P.LinkError):
-                self.lose("no answer to TICK_FAILED")
+            except P.LinkError:
+                self.lose(Loss(Cause.NO_ANSWER, "no answer to TICK_FAILED"))
         self.due = None
 
     def status(self):
-        state = "lost (%s)" % self.why if self.lost else "up"
+        state = self.session.state.value
+        if self.lost and self.loss is not None:
+            state = "lost (%s)" % self.loss
         return "link %s: %s, %d ticks, %d skipped, %d resent" % (
             state, self.name, self.ticks, self.skipped, self.retries)
 

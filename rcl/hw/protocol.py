@@ -141,7 +141,9 @@ TABLE = [
 ]
 BY_NAME = {m.name: m for m in TABLE}
 BY_ID = {m.id: m for m in TABLE}
-FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT and CLOCK (simulated only)
+# The lockstep extension (docs/protocol.md section 5): a simulated board
+# only sets this flag; CLOCK (lockstep=True above) and WAIT go only to it
+FLAG_LOCKSTEP = 0x01        # IDENTIFY: the board holds its time for WAIT and CLOCK
 SCRIPT_OUT, SCRIPT_IN = 0, 1     # as rcl.board.OUT8 and IN8
 
 

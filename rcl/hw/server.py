@@ -42,7 +42,9 @@ from rcl.i80188 import EN, INT, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK, VECTO
 from rcl.sim.board import SimBoard
 
 US = CLOCK_HZ // 1_000_000
-# Lockstep: the host's time 0 (HELLO) is put on a multiple of 3 ms, where
+# THE LOCKSTEP EXTENSION (simulated boards only, docs/protocol.md section 5):
+# the parts of this server marked "lockstep" are no part of what firmware
+# does. The host's time 0 (HELLO) is put on a multiple of 3 ms, where
 # the board's clocks line up as at the simulation's time 0 (the 80188's
 # 0.5 us, the 8253s' 8 us and the physics' 1 ms), so CLOCK's times land on
 # the same edges as the simulation's.
@@ -136,7 +138,9 @@ class BoardServer:
         self.in_session = False      # a good frame came since the host last went
         self.last_sent = 0.0
         self.started = time.monotonic()
-        self.lockstep = lockstep     # board time waits for each tick's TICK_DONE
+        # lockstep (the extension, simulated boards only): board time waits
+        # for each tick's final TICK_DONE and WAIT, and for CLOCK before ticks
+        self.lockstep = lockstep
         self.awaiting = None         # the tick whose handler the host runs (lockstep)
         self.done = False            # ... and its final TICK_DONE has come
         self.cutting = False
@@ -306,7 +310,7 @@ class BoardServer:
             return
         if f.name == "PING":
             return
-        if f.name == "WAIT":
+        if f.name == "WAIT":                          # (lockstep: firmware may ignore it)
             if self.awaiting is None:                   # held by CLOCK: on to the tick
                 if self.ticking():
                     self.clock.release()
@@ -404,7 +408,7 @@ class BoardServer:
             self.host_at, self.host_us = start, 0
             self.hello_at = start
 
-    # ------------------------------------------------- lockstep, no ticks
+    # ------------- the lockstep extension (simulated boards only): no ticks yet
     def host_time(self, us):
         """CLOCK: the host's time is `us` (mod 2**32) since HELLO; the
         board comes up to it, running whatever falls due on the way (a

@@ -1,7 +1,8 @@
 """The frame protocol over USB: a vendor-class interface's two bulk
-endpoints carry the same bytes a serial line would (`rcl --usb VID:PID`),
-and a pyusb backend that presents the simulated board as such a device, so
-that pyusb's own code runs in the tests (`rcl --usb sim`).
+endpoints carry the same bytes a serial line would (`rcl --port
+usb://VID:PID`, or `--usb VID:PID`), and a pyusb backend that presents the
+simulated board as such a device, so that pyusb's own code runs in the
+tests (`rcl --port usb://sim`).
 
     the board's USB device (docs/protocol.md, "Transports")
       configuration 1, interface 0: class 0xFF (vendor), 2 endpoints
@@ -15,6 +16,7 @@ in_waiting, close, is_open, portstr.
 """
 import array
 import errno
+import re
 import socket
 import threading
 
@@ -186,20 +188,18 @@ class UsbPort:
 
 
 def parse_id(text):
-    """"VID:PID" in hex -> (vid, pid); LinkError with the format otherwise."""
-    try:
-        vid, pid = (int(part, 16) for part in text.split(":"))
-    except ValueError:
-        raise LinkError("--usb wants VID:PID in hex (e.g. 1209:0001) or sim, "
-                        "not %r" % text) from None
-    if not (0 <= vid <= 0xFFFF and 0 <= pid <= 0xFFFF):
-        raise LinkError("--usb: VID and PID are 16-bit hex numbers, not %r" % text)
-    return vid, pid
+    """"VID:PID", each 1 to 4 hex digits -> (vid, pid); LinkError with the
+    format otherwise."""
+    found = re.fullmatch(r"([0-9A-Fa-f]{1,4}):([0-9A-Fa-f]{1,4})", text)
+    if found is None:
+        raise LinkError("usb://%s: a USB board is usb://VID:PID, VID:PID in hex "
+                        "(e.g. usb://1209:0001), or usb://sim" % text)
+    return int(found.group(1), 16), int(found.group(2), 16)
 
 
 def usb_opener(text, **sim_options):
     """A callable opening the board at VID:PID ("sim": the simulated board
-    through SimBoardBackend), for LinkBoard."""
+    through SimBoardBackend), for LinkBoard: `text` is what follows usb://."""
     if text == "sim":
         backend, (vid, pid) = SimBoardBackend(**sim_options), (SIM_VID, SIM_PID)
     else:
@@ -209,11 +209,11 @@ def usb_opener(text, **sim_options):
         try:
             dev = usb.core.find(idVendor=vid, idProduct=pid, backend=backend)
         except usb.core.NoBackendError:
-            raise LinkError("no libusb backend: install libusb-1.0 "
-                            "(apt install libusb-1.0-0)") from None
+            raise LinkError("usb://%04x:%04x: no libusb backend: install libusb-1.0 "
+                            "(apt install libusb-1.0-0)" % (vid, pid)) from None
         if dev is None:
-            raise LinkError("no USB device %04x:%04x (rcl --list-ports shows what "
-                            "there is)" % (vid, pid))
+            raise LinkError("usb://%04x:%04x: no such USB device (rcl --list-ports shows "
+                            "what there is)" % (vid, pid))
         try:
             port = UsbPort(dev, "usb:%04x:%04x" % (vid, pid))
         except usb.core.USBError as e:
