@@ -38,6 +38,7 @@ from rcl.terminal import search_order_names
 from rcl.track import COUNTS_PER_INCH, Track
 
 FRAME_S = 1 / 30            # wall seconds between two frames sent to the page
+FLAT_OUT_FRAME_S = 1 / 20   # as fast as possible: the run comes first (a frame is ~5 ms in the page)
 STATUS_S = 1 / 5            # between two status lines worked out (rcl.status reads Forth variables)
 FIGURE_S = 1 / 2            # between two Fig. 1 worked out (rcl.track: 30 ms a time natively)
 FIGURE_ROWS = 600           # Fig. 1 shows the last rows: 6 s of motion
@@ -111,7 +112,7 @@ class Frames(Trace):
             self.recent.append(self.rows[-1])
             if len(self.recent) > 2 * FIGURE_ROWS:
                 del self.recent[:-FIGURE_ROWS]
-        if time.monotonic() - self.sent >= FRAME_S:
+        if time.monotonic() - self.sent >= self.session.frame_s:
             self.session.frame()
 
     def figure(self):
@@ -276,6 +277,7 @@ class Session:
         """Virtual seconds per wall second; 0: as fast as the machine goes."""
         rate = float(rate)
         self.rate = rate
+        self.frame_s = FRAME_S if rate > 0 else FLAT_OUT_FRAME_S
         self.m.board.pacer = RatePacer(self.m.clock, rate, self.sleep) if rate > 0 else None
 
     # ----------------------------------------------------------- frames
