@@ -165,7 +165,12 @@ class RatePacer(Pacer):
     A wait too short to sleep well is skipped: the next tick's due time
     is absolute, so the pace is kept all the same."""
 
+    started = 0                   # pacers made so far: a frame names the one that paced it
+
     def __init__(self, clock, rate, sleep):
+        RatePacer.started += 1
+        self.number = RatePacer.started
+
         def wait(s):
             if s / rate >= SHORTEST_SLEEP_S:
                 sleep(s / rate)
@@ -289,12 +294,15 @@ class Session:
         pacer = self.m.board.pacer
         data["wall"] = time.monotonic()
         data["behind"] = pacer.lateness[-1] if pacer is not None and pacer.lateness else 0.0
+        data["pacer"] = pacer.number if pacer is not None else 0
         return data
 
     def state(self):
         """The robot now, as the status line and .POSE say it; the wall
         clock (seconds) and, at a rate, how far the virtual clock was
-        behind it at the last tick (virtual seconds)."""
+        behind it at the last tick (virtual seconds), and which pacer that
+        was (a new one starts when the rate changes, or when the page's
+        time had to move on: `catch_up`)."""
         sim = self.m.sim
         x, y, heading = sim.pose
         pacer = self.m.board.pacer
@@ -302,7 +310,8 @@ class Session:
                 "arm": sim.arm, "jaw": sim.jaw, "status": status.text(self.m),
                 "rate": self.rate,
                 "wall": time.monotonic(),
-                "behind": pacer.lateness[-1] if pacer is not None and pacer.lateness else 0.0}
+                "behind": pacer.lateness[-1] if pacer is not None and pacer.lateness else 0.0,
+                "pacer": pacer.number if pacer is not None else 0}
 
     def frame(self, force=False, figure=True):
         """To the page: the robot now, the pen's points (x, y of each trace
