@@ -21,6 +21,7 @@ Needs node/npm (to build), chromium, chromedriver and selenium. Prints:
     stopped, motors off first) and to the prompt back (window.rcl.stops).
 
     --quick     leaves MAILBOT's day out (it takes minutes in the page)
+    --node      adds MAILBOT's day on the bare machine in Pyodide under Node
 """
 import argparse
 import gzip
@@ -91,6 +92,37 @@ def native_mailbot():
 def set_rate(d, value):
     d.execute_script("const r = document.getElementById('rate'); r.value = arguments[0];"
                      "r.dispatchEvent(new Event('change'));", value)
+
+
+NODE_SCRIPT = r"""
+import { loadPyodide } from "%(site)s/pyodide/pyodide.mjs";
+import fs from "node:fs";
+const info = JSON.parse(fs.readFileSync("%(site)s/site.json"));
+const py = await loadPyodide({ indexURL: "%(site)s/pyodide/" });
+const purelib = py.runPython("import sysconfig; sysconfig.get_paths()['purelib']");
+py.unpackArchive(new Uint8Array(fs.readFileSync("%(site)s/" + info.wheel)), "wheel", { extractDir: purelib });
+py.runPython(`
+import time, rcl
+m = rcl.open()
+m.evaluate("INCLUDE examples/listing6.fs")
+m.evaluate("8 AM TICKS!")
+t = time.monotonic()
+m.evaluate("MAILBOT")
+print("node", time.monotonic() - t, m.evaluate(".TIME").strip())
+`);
+"""
+
+
+def node_mailbot(site):
+    """MAILBOT's day on the bare machine (rcl.open()) in the same Pyodide
+    under Node: no page, no session. -> seconds."""
+    import subprocess
+    script = os.path.join(tempfile.mkdtemp(prefix="rcl-web-node-"), "mailbot.mjs")
+    with open(script, "w") as f:
+        f.write(NODE_SCRIPT % {"site": os.path.abspath(site)})
+    done = subprocess.run(["node", script], capture_output=True, text=True)
+    line = [ln for ln in done.stdout.splitlines() if ln.startswith("node ")][-1]
+    return float(line.split()[1])
 
 
 def drawings_per_second(d):
@@ -186,6 +218,8 @@ def main():
     p.add_argument("--site", help="a site rcl-web build made (default: build one now)")
     p.add_argument("--screenshot", metavar="PNG", help="only take the page's picture into PNG")
     p.add_argument("--quick", action="store_true", help="leave MAILBOT's day out")
+    p.add_argument("--node", action="store_true",
+                   help="also run MAILBOT's day on the bare machine in Pyodide under Node")
     args = p.parse_args()
     work = tempfile.mkdtemp(prefix="rcl-web-bench-")
     site = args.site or os.path.join(work, "site")
@@ -236,6 +270,10 @@ def main():
             print("(2) MAILBOT 8:00 to %s: %.1f s in the page, %.1f s in native CPython: %.1fx "
                   "(the page ends at %s)" % (native_end, page_s, native_s, page_s / native_s, page_end))
             print_cost(cost)
+            if args.node:
+                node_s = node_mailbot(site)
+                print("    the same day on the bare machine in Pyodide under Node: %.1f s (%.1fx native)"
+                      % (node_s, node_s / native_s))
     finally:
         d.quit()
         server.shutdown()
