@@ -11,10 +11,17 @@ Needs node/npm (to build), chromium, chromedriver and selenium. Prints:
     possible, in the page and in native CPython in this same run (as
     bench/mailbot.py runs it), and their ratio;
 (3) drawings per second of the live view while both wheels drive, in
-    real time (a 3.4-foot move at 2 MPH and a 25.5 IPS square);
+    real time (a 3.4-foot move at 2 MPH and a 25.5 IPS square), and
+    where the time goes: the worker's frames (Python, conversion,
+    postMessage), Fig. 1 worked out, the page's drawing of each;
 (4) the size of the built site, as served and as gzip would send it;
-(5) Stop during a real-time mile: milliseconds from the key to the
-    prompt back (the word stopped, motors off).
+(5) Stop during a real-time mile, Ctrl-C typed in the console and the
+    Stop button in turn: milliseconds of the page's clock from the key to
+    the page's report of the stop (" Interrupted" printed: the word
+    stopped, motors off first) and to the prompt back (window.rcl.stops).
+
+    --quick     leaves MAILBOT's day out (it takes minutes in the page)
+    --node      adds MAILBOT's day on the bare machine in Pyodide under Node
 """
 import argparse
 import gzip
@@ -82,13 +89,77 @@ def native_mailbot():
     return time.perf_counter() - t0, m.evaluate(".TIME").strip()
 
 
+def set_rate(d, value):
+    d.execute_script("const r = document.getElementById('rate'); r.value = arguments[0];"
+                     "r.dispatchEvent(new Event('change'));", value)
+
+
+NODE_SCRIPT = r"""
+import { loadPyodide } from "%(site)s/pyodide/pyodide.mjs";
+import fs from "node:fs";
+const info = JSON.parse(fs.readFileSync("%(site)s/site.json"));
+const py = await loadPyodide({ indexURL: "%(site)s/pyodide/" });
+const purelib = py.runPython("import sysconfig; sysconfig.get_paths()['purelib']");
+py.unpackArchive(new Uint8Array(fs.readFileSync("%(site)s/" + info.wheel)), "wheel", { extractDir: purelib });
+py.runPython(`
+import time, rcl
+m = rcl.open()
+m.evaluate("INCLUDE examples/listing6.fs")
+m.evaluate("8 AM TICKS!")
+t = time.monotonic()
+m.evaluate("MAILBOT")
+print("node", time.monotonic() - t, m.evaluate(".TIME").strip())
+`);
+"""
+
+
+def node_mailbot(site):
+    """MAILBOT's day on the bare machine (rcl.open()) in the same Pyodide
+    under Node: no page, no session. -> seconds."""
+    import subprocess
+    script = os.path.join(tempfile.mkdtemp(prefix="rcl-web-node-"), "mailbot.mjs")
+    with open(script, "w") as f:
+        f.write(NODE_SCRIPT % {"site": os.path.abspath(site)})
+    done = subprocess.run(["node", script], capture_output=True, text=True)
+    line = [ln for ln in done.stdout.splitlines() if ln.startswith("node ")][-1]
+    return float(line.split()[1])
+
+
 def drawings_per_second(d):
-    d.execute_script("const r = document.getElementById('rate'); r.value = '1';"
-                     "r.dispatchEvent(new Event('change'));")
-    f0, t0 = d.execute_script("return [window.rcl.view().frames, performance.now()]")
+    """-> drawings a second over the lines (real time), seconds, and the
+    costs spent meanwhile (window.rcl.cost, differences)."""
+    set_rate(d, "1")
+    before = d.execute_script("return [window.rcl.view().frames, performance.now(), window.rcl.cost()]")
     evaluate(d, "RERB 2 MPH 3.4 FEET FORWARD\nINCLUDE examples/listing1.fs")
-    f1, t1 = d.execute_script("return [window.rcl.view().frames, performance.now()]")
-    return (f1 - f0) / ((t1 - t0) / 1000), (t1 - t0) / 1000
+    after = d.execute_script("return [window.rcl.view().frames, performance.now(), window.rcl.cost()]")
+    seconds = (after[1] - before[1]) / 1000
+    return (after[0] - before[0]) / seconds, seconds, cost_between(before[2], after[2])
+
+
+def cost_between(a, b):
+    """Per-item costs between two window.rcl.cost() readings."""
+    w0, w1, p0, p1 = a["worker"], b["worker"], a["page"], b["page"]
+    frames, figures = w1["frames"] - w0["frames"], max(1, w1["figures"] - w0["figures"])
+    draws = max(1, p1.get("draws", 0) - p0.get("draws", 0))
+    return {
+        "frames": frames,
+        "frame_ms": 1000 * (w1["frame_s"] - w0["frame_s"]) / max(1, frames),
+        "figure_ms": 1000 * (w1["figure_s"] - w0["figure_s"]) / figures,
+        "figures": w1["figures"] - w0["figures"],
+        "update_ms": (p1["update"] - p0["update"]) / max(1, frames),
+        "top_ms": (p1["top"] - p0["top"]) / draws,
+        "draw_figure_ms": (p1["figure"] - p0["figure"]) / max(1, p1["figures"] - p0["figures"]),
+        "draws": draws,
+    }
+
+
+def print_cost(c, indent="    "):
+    print("%sworker: %d frames, %.2f ms each (state, pen points, conversion, postMessage);"
+          " Fig. 1 worked out %d times, %.1f ms each"
+          % (indent, c["frames"], c["frame_ms"], c["figures"], c["figure_ms"]))
+    print("%spage: a frame taken in %.2f ms; %d drawings of the top view, %.2f ms each;"
+          " Fig. 1 drawn in %.2f ms" % (indent, c["update_ms"], c["draws"], c["top_ms"],
+                                       c["draw_figure_ms"]))
 
 
 def screenshot(d, url, path):
@@ -106,21 +177,32 @@ def screenshot(d, url, path):
     d.save_screenshot(path)
 
 
-def stop_latency(d, tries=5):
-    """Milliseconds from Stop (window.rcl.stop) to the prompt back, the
-    motors off, in the middle of a real-time `1 MILES FORWARD`."""
-    d.execute_script("const r = document.getElementById('rate'); r.value = '1';"
-                     "r.dispatchEvent(new Event('change'));")
+def stop_latency(d, tries=6):
+    """Stops in the middle of a real-time `1 MILES FORWARD`, Ctrl-C typed in
+    the console and the Stop button in turn: -> [(how, ms to " Interrupted",
+    ms to the prompt)], in the page's clock from the key (window.rcl.stops)."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    set_rate(d, "1")
+    box = d.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
     out = []
-    for _ in range(tries):
-        d.execute_script("window.rcl.evaluate('1 MILES FORWARD')")
-        while not call(d, "window.rcl.pose()")["x"] or not d.execute_script(
-                "return window.rcl.busy() && window.rcl.view().pose.t > 0"):
+    for i in range(tries):
+        x = call(d, "window.rcl.pose()")["x"]
+        box.send_keys("1 MILES FORWARD\n")
+        while not d.execute_script("return window.rcl.busy() && window.rcl.view().pose.x > %f"
+                                   % (x + 12)):
             time.sleep(0.05)
-        time.sleep(1.0)
-        out.append(call(d, "new Promise((done) => { const t = performance.now(); window.rcl.stop();"
-                           "(function poll() { window.rcl.busy() ? setTimeout(poll, 1)"
-                           " : done(performance.now() - t); })(); })"))
+        n = len(d.execute_script("return window.rcl.stops"))
+        if i % 2:
+            how = "Stop button"
+            d.find_element(By.ID, "stop").click()
+        else:
+            how = "Ctrl-C"
+            box.send_keys(Keys.CONTROL, "c")
+        while len(d.execute_script("return window.rcl.stops")) == n:
+            time.sleep(0.05)
+        s = d.execute_script("return window.rcl.stops")[-1]
+        out.append((how, s.get("worker", float("nan")), s.get("out", float("nan")), s["prompt"]))
     return out
 
 
@@ -132,9 +214,12 @@ def site_size(folder):
 
 
 def main():
-    p = argparse.ArgumentParser()
+    p = argparse.ArgumentParser(description="rcl in a browser tab: the page's figures")
     p.add_argument("--site", help="a site rcl-web build made (default: build one now)")
     p.add_argument("--screenshot", metavar="PNG", help="only take the page's picture into PNG")
+    p.add_argument("--quick", action="store_true", help="leave MAILBOT's day out")
+    p.add_argument("--node", action="store_true",
+                   help="also run MAILBOT's day on the bare machine in Pyodide under Node")
     args = p.parse_args()
     work = tempfile.mkdtemp(prefix="rcl-web-bench-")
     site = args.site or os.path.join(work, "site")
@@ -156,20 +241,39 @@ def main():
         cold = until_ok(d, url)
         while not call(d, "window.rcl.cached()"):
             time.sleep(0.2)
+        cold_phases = d.execute_script("return window.rcl.phases")
         cached = until_ok(d, url)
         print("(1) page opened to the first ` ok`: %.1f s cold, %.1f s cached" % (cold, cached))
-        evaluate(d, "INCLUDE examples/listing6.fs\n8 AM TICKS!")
-        _, page_s = evaluate(d, "MAILBOT")
-        page_end = evaluate(d, ".TIME")[0].strip()
-        native_s, native_end = native_mailbot()
-        print("(2) MAILBOT 8:00 to %s: %.1f s in the page, %.1f s in native CPython: %.1fx "
-              "(the page ends at %s)" % (native_end, page_s, native_s, page_s / native_s, page_end))
-        fps, seconds = drawings_per_second(d)
+        for name, ph in (("cold", cold_phases), ("cached", d.execute_script("return window.rcl.phases"))):
+            print("    %s, the worker's start (s from its start): %s" % (
+                name, ", ".join("%s %.1f" % (k, v / 1000) for k, v in ph.items())))
+        sys.stdout.flush()
+        fps, seconds, cost = drawings_per_second(d)
         print("(3) live view while both wheels drive, real time: %.0f drawings a second "
               "over %.1f s" % (fps, seconds))
+        print_cost(cost)
         stops = stop_latency(d)
-        print("(5) Stop in a real-time mile to the prompt back: %s ms (worst %.0f ms)"
-              % (" ".join("%.0f" % s for s in stops), max(stops)))
+        print("(5) Stop in a real-time mile, ms from the key: ' Interrupted' printed by the"
+              " worker / shown by the page / the prompt back")
+        for how, worker, to_out, to_prompt in stops:
+            print("    %-12s %6.0f / %6.0f / %6.0f" % (how, worker, to_out, to_prompt))
+        print("    worst: %.0f ms to ' Interrupted' shown, %.0f ms to the prompt"
+              % (max(s[2] for s in stops), max(s[3] for s in stops)), flush=True)
+        if not args.quick:
+            set_rate(d, "0")
+            evaluate(d, "INCLUDE examples/listing6.fs\n8 AM TICKS!")
+            before = d.execute_script("return window.rcl.cost()")
+            _, page_s = evaluate(d, "MAILBOT")
+            cost = cost_between(before, d.execute_script("return window.rcl.cost()"))
+            page_end = evaluate(d, ".TIME")[0].strip()
+            native_s, native_end = native_mailbot()
+            print("(2) MAILBOT 8:00 to %s: %.1f s in the page, %.1f s in native CPython: %.1fx "
+                  "(the page ends at %s)" % (native_end, page_s, native_s, page_s / native_s, page_end))
+            print_cost(cost)
+            if args.node:
+                node_s = node_mailbot(site)
+                print("    the same day on the bare machine in Pyodide under Node: %.1f s (%.1fx native)"
+                      % (node_s, node_s / native_s))
     finally:
         d.quit()
         server.shutdown()

@@ -1,6 +1,7 @@
 """The page's Python side (rcl.web.session) and the site's build (rcl.web.build,
 rcl-web) on this Python: no browser, no node. The browser runs this same
 session inside Pyodide (tests/test_web_page.py)."""
+import json
 import os
 import subprocess
 import sys
@@ -28,11 +29,22 @@ def test_the_first_command_observed_by_the_page_ends_with_rcl_opens_counts():
     trace = Trace(m.board, keep=True)
     m.evaluate(COMMAND)
     assert s.m.sim.wheel_counts == m.sim.wheel_counts              # watching changes nothing
-    rows = [r for kind, data in sent if kind == "frame" for r in data["rows"]]
-    assert [list(r) for r in trace.rows] == rows                   # the board's own trace
-    assert [r[0] for r in rows] == sorted(r[0] for r in rows)      # in time order
+    path = [v for kind, data in sent if kind == "frame" for v in data["path"]]
+    assert [v for r in trace.rows for v in r[1:3]] == path         # the board's own trace, in order
+    last = [data for kind, data in sent if kind == "frame"][-1]
+    assert (last["x"], last["y"]) == s.m.sim.pose[:2] and "figure" not in last
+    s.settle()                                                     # after the prompt: Fig. 1
     last = [data for kind, data in sent if kind == "frame"][-1]
     assert last["figure"]["acc"] and last["figure"]["limit"] == 100   # Fig. 1: FERR-LIMIT
+
+
+def test_a_frame_says_the_wall_clock_and_how_far_the_rate_is_behind():
+    s = Session(lambda kind, data: None, rate=1000)
+    s.banner()
+    s.evaluate("RERB 2 MPH 3.4 FEET FORWARD")
+    pacer, state = s.m.board.pacer, s.state()
+    assert state["rate"] == 1000 and state["wall"] > 0
+    assert pacer.ticks > 100 and state["behind"] == pacer.lateness[-1] >= 0   # paced tick by tick
 
 
 def test_the_screen_is_the_terminals_ok_errors_and_the_open_definitions_prompt():
@@ -97,3 +109,17 @@ def test_rcl_web_serve_refuses_a_folder_without_a_built_site(tmp_path):
     done = rcl_web("serve", str(tmp_path), "--no-browser")
     assert done.returncode == 2
     assert "rcl-web build" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_the_page_gets_frames_as_json_text_with_the_same_pen_points():
+    sent = []
+    s = Session(lambda kind, data: sent.append((kind, data)), rate=0, frames_as_json=True)
+    s.banner()
+    s.submit(COMMAND)
+    s.settle()
+    frames = [json.loads(data) for kind, data in sent if kind == "frame"]
+    m = rcl.open()
+    trace = Trace(m.board, keep=True)
+    m.evaluate(COMMAND)
+    assert [v for f in frames for v in f["path"]] == [v for r in trace.rows for v in r[1:3]]
+    assert frames[-1]["figure"]["limit"] == 100

@@ -40,9 +40,17 @@ class VM {
                               rate: rate(), ...startOptions });
   }
 
-  message({ type, data }) {
-    if (type === "out") term.write(data);
-    else if (type === "frame") { this.frame = data; view.update(data); status(data); }
+  message({ type, data, at }) {
+    if (type === "out") {
+      if (data.includes("Interrupted")) this.stopped("worker", at - performance.timeOrigin);
+      term.write(data);
+      if (data.includes("Interrupted")) this.stopped("out");
+    }
+    else if (type === "frame") {
+      data = JSON.parse(data);
+      this.frame = data; view.update(data); status(data);
+      if (window.rcl.onframe) window.rcl.onframe(data);
+    }
     else if (type === "prompt") { const r = this.prompts.shift(); if (r) r(data); }
     else if (type === "result") { const r = this.pending.get(data.id); this.pending.delete(data.id); if (r) r(data.value); }
     else if (type === "read") term.read(data.kind);
@@ -77,7 +85,21 @@ class VM {
     io.set(bytes, 4);
     Atomics.store(ctl, 2, 1); Atomics.notify(ctl, 2);
   }
-  stop() {
+  // A stop's report, in the page's time from the key (window.rcl.stops):
+  // `worker` when the worker printed " Interrupted" (the word stopped,
+  // motors off first), `out` when the page showed it, `prompt` when the
+  // machine is ready for the next line.
+  stopped(what, when = performance.now()) {
+    const s = this.stopping;
+    if (!s || s[what] !== undefined) return;
+    s[what] = when - s.at;
+    if (what === "prompt") { this.stopping = null; delete s.at; stops.push(s); }
+  }
+
+  // at: the key's or the click's time (its event's timeStamp), else now
+  stop(at) {
+    if (!busy) return;
+    this.stopping = { at: at === undefined ? performance.now() : at };
     if (ctl) { Atomics.store(ctl, 0, 2); Atomics.notify(ctl, 0); return; }
     // not isolated: no way into a running worker but to end it
     notice("This page is not cross-origin isolated: Stop restarts the machine (your definitions are lost).", 8000);
@@ -90,7 +112,9 @@ class VM {
 }
 
 let busy = false;
+const stops = [];                    // the stops' reports, newest last (the bench reads them)
 function running(on) {
+  if (busy && !on) vm.stopped("prompt");
   busy = on;
   $("stop").disabled = !on;
   $("state").textContent = on ? "running" : "ready";
@@ -99,7 +123,8 @@ function running(on) {
 function rate() { return Number($("rate").value); }
 
 function status(frame) {
-  $("status").textContent = frame.status + "   " + (frame.rate ? frame.rate + "x" : "flat out");
+  const text = frame.status + "   " + (frame.rate ? frame.rate + "x" : "flat out");
+  if ($("status").textContent !== text) $("status").textContent = text;
 }
 
 // ------------------------------------------------------------- the page
@@ -124,8 +149,11 @@ function ready(data) {
   term.ready(data.prompt);
   running(false);
   window.rcl.startup = data.ms;
+  window.rcl.phases = data.phases;          // the worker's start, ms: pyodide, wheel, import, rcl
   window.rcl.readyAt = performance.now();
   vm.resolveReady(true);
+  if (ready.done) return;                   // a restart, an image opened: the page has these
+  ready.done = true;
   vm.ask("programs", {}).then(fillPrograms);
   sharedProgram();
 }
@@ -242,7 +270,7 @@ if (options.rate !== undefined && [...$("rate").options].some((o) => o.value ===
   $("rate").value = options.rate;
 }
 if (ctl) Atomics.store(ctl, 1, rate() > 0 ? rate() * 1000 : -1);
-$("stop").onclick = () => vm.stop();
+$("stop").onclick = (e) => vm.stop(e.timeStamp);
 $("share").onclick = share;
 $("programs").onchange = () => {
   const name = $("programs").value;
@@ -280,9 +308,13 @@ $("image-file").onchange = async () => {
   const f = $("image-file").files[0];
   if (!f) return;
   startImage = await f.arrayBuffer();
-  vm.worker.terminate();
   term.write("\n(starting from " + f.name + ")\n");
-  restart();
+  if (busy) { vm.worker.terminate(); restart(); return; }
+  // the worker opens it in the Python it has: no reload
+  view.clear();
+  vm.readyPromise = new Promise((resolve, reject) => { vm.resolveReady = resolve; vm.rejectReady = reject; });
+  running(true);
+  vm.post("image", { image: startImage.slice(0), name: f.name, rate: rate() });
 };
 
 // ------------------------------------------------------------ window.rcl
@@ -307,7 +339,10 @@ window.rcl = {
   },
   time() { return vm.frame ? vm.frame.t : 0; },
   stop() { vm.stop(); },
+  stops,
   view() { return view.state(); },
+  // where the time goes: the worker's frames and Fig. 1 (seconds, counts), the page's drawing (ms)
+  cost() { return { worker: vm.frame ? vm.frame.cost : null, page: view.state().cost }; },
   // the console's text, its last `rows` lines
   screen(rows = 200) {
     if (!term.term) return "";

@@ -9,7 +9,7 @@ const HISTORY_MAX = 500;
 
 export class Console {
   // vm: {submit(line, shown) -> Promise(prompt), complete(text) -> Promise([names]),
-  //      stop(), answer(text)} (answer: a line or key for ACCEPT / KEY)
+  //      stop(at), answer(text)} (answer: a line or key for ACCEPT / KEY)
   constructor(element, vm) {
     this.vm = vm;
     this.term = new Terminal({ convertEol: true, cursorBlink: true, fontSize: 14,
@@ -28,6 +28,10 @@ export class Console {
     this.history = JSON.parse(localStorage.getItem(HISTORY_KEY) || "[]");
     this.back = this.history.length;
     this.term.onData((data) => this.data(data));
+    this.keyAt = null;       // when Ctrl-C was pressed (its event's time): a stop is timed from it
+    element.addEventListener("keydown", (e) => {
+      if (e.ctrlKey && (e.key === "c" || e.key === "C")) this.keyAt = e.timeStamp;
+    }, true);
   }
 
   fit() {
@@ -174,7 +178,9 @@ export class Console {
   // Ctrl-C: a running word stops (motors first); at the prompt the line is dropped.
   interrupt() {
     this.ahead = [];
-    if (this.busy || this.reading) { this.reading = null; this.vm.stop(); return; }
+    const at = this.keyAt !== null && performance.now() - this.keyAt < 1000 ? this.keyAt : undefined;
+    this.keyAt = null;
+    if (this.busy || this.reading) { this.reading = null; this.vm.stop(at); return; }
     this.write("\n");
     this.ready(this.prompt);
   }

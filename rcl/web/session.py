@@ -10,15 +10,20 @@ texts, the `NAME]` continuation prompt, abandoned definitions, #help.
     s.set_rate(10)                 virtual time 10x the wall clock (0: flat out)
 
 `send(kind, data)` is the page's: ("out", text) as the machine prints,
-("frame", {...}) with the ticks' rows since the last frame and the status
-line, ("files", [names]) when a line wrote files (SAVE-SYSTEM).
+("frame", {...}) with the robot's positions from the ticks' rows since
+the last frame (the pen) and the status line, ("files", [names]) when a
+line wrote files (SAVE-SYSTEM). After a line's prompt has gone to the
+page, `settle()` sends the frame with Fig. 1 of the line's end: a stop
+is reported before that drawing is worked out.
 
 Ctrl-C reaches the machine as Python's SIGINT (Pyodide's interrupt
 buffer), which the machine already turns into a break at its next
 primitive, motors first, as in the terminal; `sleep` (the pacer's wait)
 is the page's, and wakes at once on that interrupt.
 """
+import json
 import os
+import signal
 import time
 
 import rcl
@@ -33,8 +38,12 @@ from rcl.terminal import search_order_names
 from rcl.track import COUNTS_PER_INCH, Track
 
 FRAME_S = 1 / 30            # wall seconds between two frames sent to the page
-FIGURE_S = 1 / 4            # and between two redrawings of Fig. 1 (rcl.track: not free)
-FIGURE_ROWS = 1000          # Fig. 1 shows the last rows: 10 s of motion
+FLAT_OUT_FRAME_S = 1 / 20   # as fast as possible: the run comes first (a frame is ~5 ms in the page)
+STATUS_S = 1 / 5            # between two status lines worked out (rcl.status reads Forth variables)
+FIGURE_S = 1 / 2            # between two Fig. 1 worked out (rcl.track: 30 ms a time natively)
+FIGURE_ROWS = 600           # Fig. 1 shows the last rows: 6 s of motion
+FIGURE_SHARE = 10           # Fig. 1 waits at least 10 times what it took last: at most a
+                            # tenth of the worker's time, which then holds the view still
 CATCH_UP_S = 0.1            # wall seconds an idle catch-up may take
 SHORTEST_SLEEP_S = 0.002    # shorter waits are left to the next tick's
 
@@ -79,6 +88,10 @@ class PageTerminal:
         return self.read_key_fn()
 
 
+class FigureCut(Exception):
+    """Ctrl-C while Fig. 1 was worked out: the stop comes first."""
+
+
 class Frames(Trace):
     """The board's observation hook for the page: rcl.sim.observe.Trace's
     rows (one per tick in which something changed), sent in frames of
@@ -87,6 +100,7 @@ class Frames(Trace):
     def __init__(self, session):
         self.session = session
         self.sent = self.drawn = time.monotonic()
+        self.took = 0.0                   # seconds the last Fig. 1 took
         self.recent = []                  # the rows Fig. 1 shows
         session.frames = self
         super().__init__(session.m.board, keep=True)
@@ -98,14 +112,36 @@ class Frames(Trace):
             self.recent.append(self.rows[-1])
             if len(self.recent) > 2 * FIGURE_ROWS:
                 del self.recent[:-FIGURE_ROWS]
-        if time.monotonic() - self.sent >= FRAME_S:
+        if time.monotonic() - self.sent >= self.session.frame_s:
             self.session.frame()
 
     def figure(self):
         """Fig. 1 of the last rows, from rcl.track (what rcl.plot draws):
         time (idle stretches cut to 2 s), each wheel's speed and command
         in in/s, the breakpoints, the following error in counts."""
-        self.drawn = time.monotonic()
+        self.drawn = start = time.monotonic()
+        before = signal.getsignal(signal.SIGINT)
+
+        def cut(signum, frame):           # Ctrl-C: the break as before, then this figure is dropped
+            if callable(before):
+                before(signum, frame)
+            raise FigureCut
+        try:
+            signal.signal(signal.SIGINT, cut)
+        except ValueError:                # not the main thread: nothing to cut short
+            before = None
+        try:
+            return self.worked_out()
+        except FigureCut:
+            return None
+        finally:
+            if before is not None:
+                signal.signal(signal.SIGINT, before)
+            self.took = time.monotonic() - start
+            self.session.cost["figure_s"] += self.took
+            self.session.cost["figures"] += 1
+
+    def worked_out(self):
         track = Track(self.recent[-FIGURE_ROWS:], self.FIELDS)
         if not track.n:
             return None
@@ -129,7 +165,12 @@ class RatePacer(Pacer):
     A wait too short to sleep well is skipped: the next tick's due time
     is absolute, so the pace is kept all the same."""
 
+    started = 0                   # pacers made so far: a frame names the one that paced it
+
     def __init__(self, clock, rate, sleep):
+        RatePacer.started += 1
+        self.number = RatePacer.started
+
         def wait(s):
             if s / rate >= SHORTEST_SLEEP_S:
                 sleep(s / rate)
@@ -138,13 +179,16 @@ class RatePacer(Pacer):
 
 class Session:
     def __init__(self, send, sleep=time.sleep, read_line=None, read_key=None,
-                 image=None, rate=1.0, folder=None):
+                 image=None, rate=1.0, folder=None, frames_as_json=False):
         self.send, self.sleep = send, sleep
+        self.as_json = frames_as_json     # the page's: one string crosses to JavaScript at once
         self.folder = folder or os.getcwd()
         self.out = Output(PageStream(send), flush_each=True)
         self.m = rcl.open(write=self.out.write, image=image)
         self.repl = Repl(self.m, self.out, term=PageTerminal(read_line, read_key))
         self.rate = None
+        self.cost = {"frame_s": 0.0, "frames": 0, "figure_s": 0.0, "figures": 0}   # the bench's
+        self.said, self.last_state = 0.0, None     # the status line's time, the state then
         self.set_rate(rate)
         Frames(self)
         self.files = self.listing()
@@ -172,8 +216,16 @@ class Session:
         try:
             self.repl.onecmd(line)
         finally:
-            self.frame(force=True)
+            self.frame(figure=False)              # the prompt first: Fig. 1 comes with settle()
             self.report_files()
+
+    def settle(self):
+        """The frame with Fig. 1 as the last line left it (sent after the
+        prompt: working it out takes a while in the page)."""
+        try:
+            self.frame(force=True)
+        except KeyboardInterrupt:           # a Stop that came as the word ended
+            pass
 
     def evaluate(self, text):
         """window.rcl.evaluate: each line as if typed (the console shows
@@ -230,26 +282,56 @@ class Session:
         """Virtual seconds per wall second; 0: as fast as the machine goes."""
         rate = float(rate)
         self.rate = rate
+        self.frame_s = FRAME_S if rate > 0 else FLAT_OUT_FRAME_S
         self.m.board.pacer = RatePacer(self.m.clock, rate, self.sleep) if rate > 0 else None
 
     # ----------------------------------------------------------- frames
+    def pose(self, state):
+        """The last state with the robot's pose, clock and pacing now."""
+        sim, data = self.m.sim, dict(state)
+        data["x"], data["y"], heading = sim.pose
+        data["heading"], data["arm"], data["jaw"], data["t"] = heading % 360, sim.arm, sim.jaw, sim.seconds
+        pacer = self.m.board.pacer
+        data["wall"] = time.monotonic()
+        data["behind"] = pacer.lateness[-1] if pacer is not None and pacer.lateness else 0.0
+        data["pacer"] = pacer.number if pacer is not None else 0
+        return data
+
     def state(self):
-        """The robot now, as the status line and .POSE say it."""
+        """The robot now, as the status line and .POSE say it; the wall
+        clock (seconds) and, at a rate, how far the virtual clock was
+        behind it at the last tick (virtual seconds), and which pacer that
+        was (a new one starts when the rate changes, or when the page's
+        time had to move on: `catch_up`)."""
         sim = self.m.sim
         x, y, heading = sim.pose
+        pacer = self.m.board.pacer
         return {"t": sim.seconds, "x": x, "y": y, "heading": heading % 360,
                 "arm": sim.arm, "jaw": sim.jaw, "status": status.text(self.m),
-                "moving": status.move_text(self.m), "rate": self.rate}
+                "rate": self.rate,
+                "wall": time.monotonic(),
+                "behind": pacer.lateness[-1] if pacer is not None and pacer.lateness else 0.0,
+                "pacer": pacer.number if pacer is not None else 0}
 
-    def frame(self, force=False):
+    def frame(self, force=False, figure=True):
+        """To the page: the robot now, the pen's points (x, y of each trace
+        row since the last frame, flat), and Fig. 1 when due (force: now)."""
+        start = self.frames.sent = time.monotonic()
         rows, self.frames.rows = self.frames.rows, []
-        self.frames.sent = time.monotonic()
-        data = self.state()
-        data["rows"] = [list(r) for r in rows]
+        if force or start - self.said >= STATUS_S:
+            self.said, self.last_state = start, self.state()
+            data = dict(self.last_state)
+        else:
+            data = self.pose(self.last_state)
+        data["path"] = [v for r in rows for v in r[1:3]]
+        data["cost"] = dict(self.cost)
         every = FIGURE_S if self.rate else 4 * FIGURE_S       # flat out: the run comes first
-        if rows and time.monotonic() - self.frames.drawn >= every or force:
+        every = max(every, FIGURE_SHARE * self.frames.took)   # and never much of the time
+        if figure and (rows and start - self.frames.drawn >= every or force):
             data["figure"] = self.frames.figure()
-        self.send("frame", data)
+        self.send("frame", json.dumps(data) if self.as_json else data)
+        self.cost["frame_s"] += time.monotonic() - start
+        self.cost["frames"] += 1
 
     # ------------------------------------------------------------ files
     def programs(self):

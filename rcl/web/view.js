@@ -5,18 +5,21 @@
 // board's observation hook: the trace rows and the Fig. 1 series that
 // rcl.web.session sends in frames (rcl.sim.observe.Trace, rcl.track).
 
-// the trace's columns (rcl.sim.observe.Trace.FIELDS)
-const T = 0, X = 1, Y = 2, HEADING = 3, ARM = 10, JAW = 11;
 const BODY_IN = 9;            // the drawn base's radius, inches
 const TRACK_IN = 44 / Math.PI;
 const PATH_MAX = 200000;      // points of the pen kept (memory stays bounded)
+const STEP_IN = 0.05;         // the pen takes a point this far from the last
+const STRAIGHT_IN = 0.01;     // a point this close to the line on goes into that line
 const COLOURS = { left: "#1f77b4", right: "#ff7f0e" };
 
 export class View {
   constructor(canvas, figureCanvas) {
     this.canvas = canvas;
     this.fig = figureCanvas;
-    this.path = [];                     // [x, y] in inches, the pen
+    this.path = [];                     // [x, y] in inches, the pen (a polyline)
+    this.pen = new Path2D();            // path[0 .. length-2] in inches, kept, extended
+    this.penLength = 0;                 // the points pen holds (all but the last)
+    this.direction = null;              // the last segment's first direction, a unit vector
     this.start = null;
     this.pose = { x: 0, y: 0, heading: 0, arm: 8, jaw: 0, t: 0 };
     this.figure = null;
@@ -26,6 +29,8 @@ export class View {
     this.frames = 0;                    // drawings made (frames per second)
     this.robotPx = { x: 0, y: 0 };
     this.dirty = true;
+    this.figureDirty = true;            // Fig. 1 is drawn again only when it changed
+    this.cost = { update: 0, draws: 0, top: 0, figures: 0, figure: 0 };   // ms spent, for the bench
     canvas.addEventListener("wheel", (e) => {
       e.preventDefault();
       this.zoom = Math.min(20, Math.max(0.05, this.zoom * (e.deltaY < 0 ? 1.2 : 1 / 1.2)));
@@ -36,29 +41,67 @@ export class View {
     requestAnimationFrame(loop);
   }
 
-  // A frame from the worker: {x, y, heading, arm, jaw, t, rows, figure?}
+  // A frame from the worker: {x, y, heading, arm, jaw, t, path: [x0, y0, x1, y1, ...], figure?}
+  // (path: the pen's points from the board's trace rows since the last frame)
   update(frame) {
-    for (const r of frame.rows || []) {
-      if (r[X] === null) continue;
-      if (!this.start) this.start = { x: r[X], y: r[Y], heading: r[HEADING] };
-      const last = this.path[this.path.length - 1];
-      if (!last || Math.hypot(r[X] - last[0], r[Y] - last[1]) >= 0.05) this.path.push([r[X], r[Y]]);
-    }
-    if (this.path.length > PATH_MAX) this.path.splice(0, this.path.length - PATH_MAX / 2);
+    const t0 = performance.now();
+    const p = frame.path || [];
+    for (let i = 0; i + 1 < p.length; i += 2) this.penTo(p[i], p[i + 1]);
+    if (this.path.length > PATH_MAX) this.cut();
     this.pose = { x: frame.x, y: frame.y, heading: frame.heading, arm: frame.arm,
                   jaw: frame.jaw, t: frame.t };
     if (!this.start) this.start = { x: frame.x, y: frame.y, heading: frame.heading };
-    if (frame.figure) this.figure = frame.figure;
+    if (frame.figure) { this.figure = frame.figure; this.figureDirty = true; }
     this.dirty = true;
+    this.cost.update += performance.now() - t0;
   }
 
-  clear() { this.path = []; this.start = null; this.figure = null; this.dirty = true; }
+  // The pen: a straight stretch stays one segment (its last point moves on
+  // while the robot keeps to the segment's first direction); every point
+  // but the last is kept in a Path2D, extended, never rebuilt.
+  penTo(x, y) {
+    if (!this.start) this.start = { x, y, heading: this.pose.heading };
+    const n = this.path.length, b = this.path[n - 1];
+    if (b && Math.hypot(x - b[0], y - b[1]) < STEP_IN) return;
+    const a = this.path[n - 2], d = this.direction;
+    if (a && d && Math.abs((x - a[0]) * d[1] - (y - a[1]) * d[0]) < STRAIGHT_IN &&
+        (x - b[0]) * d[0] + (y - b[1]) * d[1] > 0) { b[0] = x; b[1] = y; return; }
+    if (b) {
+      this.keep(n - 1);
+      const len = Math.hypot(x - b[0], y - b[1]);
+      this.direction = [(x - b[0]) / len, (y - b[1]) / len];
+    }
+    this.path.push([x, y]);
+  }
+
+  keep(i) {
+    // point i joins the kept Path2D (all before it are there already)
+    while (this.penLength <= i) {
+      const [x, y] = this.path[this.penLength];
+      this.penLength ? this.pen.lineTo(x, y) : this.pen.moveTo(x, y);
+      this.penLength++;
+    }
+  }
+
+  cut() {
+    this.path.splice(0, this.path.length - PATH_MAX / 2);
+    this.pen = new Path2D(); this.penLength = 0;
+    this.keep(this.path.length - 2);
+  }
+
+  clear() {
+    this.path = []; this.pen = new Path2D(); this.penLength = 0; this.direction = null;
+    this.start = null; this.figure = null; this.dirty = this.figureDirty = true;
+  }
 
   sized(canvas) {
     const r = window.devicePixelRatio || 1;
     const w = Math.max(1, Math.round(canvas.clientWidth * r));
     const h = Math.max(1, Math.round(canvas.clientHeight * r));
-    if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
+    if (canvas.width !== w || canvas.height !== h) {
+      canvas.width = w; canvas.height = h;
+      if (canvas === this.fig) this.figureDirty = true;
+    }
     const g = canvas.getContext("2d");
     g.setTransform(r, 0, 0, r, 0, 0);
     return [g, canvas.clientWidth, canvas.clientHeight];
@@ -67,8 +110,18 @@ export class View {
   draw() {
     this.dirty = false;
     this.frames++;
+    const t0 = performance.now();
     this.drawTop();
-    this.drawFigure();
+    const t1 = performance.now();
+    this.cost.top += t1 - t0;
+    this.cost.draws++;
+    this.sized(this.fig);
+    if (this.figureDirty) {
+      this.figureDirty = false;
+      this.drawFigure();
+      this.cost.figure += performance.now() - t1;
+      this.cost.figures++;
+    }
   }
 
   // ------------------------------------------------------------ top view
@@ -123,13 +176,20 @@ export class View {
       g.beginPath(); g.arc(sx, sy, 6, 0, 2 * Math.PI); g.stroke();
       g.fillStyle = "#2a6"; g.fillText("start", sx + 8, sy - 8);
     }
-    // the pen
-    if (this.path.length > 1) {
-      g.strokeStyle = "#c0392b"; g.lineWidth = 2; g.lineJoin = "round";
-      g.beginPath(); g.moveTo(px(this.path[0][0]), py(this.path[0][1]));
-      for (const [x, y] of this.path) g.lineTo(px(x), py(y));
-      g.lineTo(px(this.pose.x), py(this.pose.y));
+    // the pen: the kept Path2D drawn in inches, then its last stretch to the robot
+    if (this.path.length) {
+      const r = window.devicePixelRatio || 1;
+      g.save();
+      g.setTransform(r * s, 0, 0, -r * s, r * (w / 2 - c.x * s), r * (h / 2 + c.y * s));
+      g.strokeStyle = "#c0392b"; g.lineWidth = 2 / s; g.lineJoin = "round";
+      if (this.penLength > 1) g.stroke(this.pen);
+      g.beginPath();
+      const last = this.path[Math.max(0, this.penLength - 1)];
+      g.moveTo(last[0], last[1]);
+      for (let i = this.penLength; i < this.path.length; i++) g.lineTo(this.path[i][0], this.path[i][1]);
+      g.lineTo(this.pose.x, this.pose.y);
       g.stroke();
+      g.restore();
     }
     this.drawRobot(g, px(this.pose.x), py(this.pose.y), s);
     this.drawArm(g, w);
@@ -236,6 +296,7 @@ export class View {
   // What the tests and course pages read: where the robot is drawn.
   state() {
     return { frames: this.frames, robot: { ...this.robotPx }, pose: { ...this.pose },
-             path: this.path.length, scale: this.scale };
+             path: this.path.length, scale: this.scale, cost: { ...this.cost } };
   }
 }
+

@@ -10,8 +10,9 @@
 //   io   Uint8Array: [0..3] length, then the line's UTF-8 bytes
 import { loadPyodide } from "./pyodide/pyodide.mjs";
 
-let py = null, session = null, ctl = null, io = null;
-const post = (type, data) => self.postMessage({ type, data });
+let py = null, Session = null, session = null, version = null, ctl = null, io = null;
+// `at`: when it was sent, on the clock the page shares (a stop's report is timed by it)
+const post = (type, data) => self.postMessage({ type, data, at: performance.timeOrigin + performance.now() });
 
 function sleep(seconds) {
   const ms = Math.max(0, seconds * 1000);
@@ -46,9 +47,7 @@ function readKey() {
 
 function send(kind, data) {
   if (kind === "frame") {
-    const frame = data.toJs({ dict_converter: Object.fromEntries });
-    data.destroy();
-    post("frame", frame);
+    post("frame", data);                        // JSON text (frames_as_json): the page parses it
     const r = rateAsked();
     if (session && r !== null && r !== session.rate) session.set_rate(r);
   } else if (kind === "files") {
@@ -63,11 +62,15 @@ async function start(msg) {
   const t0 = performance.now();
   ctl = msg.ctl ? new Int32Array(msg.ctl) : null;
   io = msg.io ? new Uint8Array(msg.io) : null;
+  const phases = {};
+  const phase = (name) => { phases[name] = Math.round(performance.now() - t0); };
   const site = await (await fetch("./site.json")).json();
   py = await loadPyodide({ indexURL: new URL("./pyodide/", location.href).href });
+  phase("pyodide");
   const purelib = py.runPython("import sysconfig; sysconfig.get_paths()['purelib']");
   const wheel = await (await fetch("./" + site.wheel)).arrayBuffer();
   py.unpackArchive(new Uint8Array(wheel), "wheel", { extractDir: purelib });
+  phase("wheel");
   if (ctl) py.setInterruptBuffer(ctl);
   py.FS.mkdirTree("/home/rcl");
   py.FS.chdir("/home/rcl");
@@ -77,14 +80,43 @@ async function start(msg) {
     py.FS.writeFile("/tmp/start.img", new Uint8Array(msg.image));
     image = "/tmp/start.img";
   }
-  const Session = py.pyimport("rcl.web.session").Session;
-  const kw = { sleep, read_line: readLine, read_key: readKey, rate: msg.rate };
+  Session = py.pyimport("rcl.web.session").Session;
+  phase("import");
+  session = openSession(image, msg.rate);
+  phase("rcl");
+  version = site.version;
+  begin(t0, phases);
+}
+
+function openSession(image, rate) {
+  const kw = { sleep, read_line: readLine, read_key: readKey, rate, frames_as_json: true };
   if (image) kw.image = image;
-  session = Session.callKwargs(send, kw);
+  return Session.callKwargs(send, kw);
+}
+
+function begin(t0, phases) {
   const prompt = session.banner();
-  post("ready", { prompt, ms: performance.now() - t0, version: site.version,
-                  isolated: !!ctl });
+  post("ready", { prompt, ms: performance.now() - t0, version, isolated: !!ctl, phases });
   session.frame();
+}
+
+// Open image…: a new machine from the image in this same Python (no reload);
+// an image that cannot be opened leaves the machine as it was.
+function reopen(msg) {
+  const t0 = performance.now();
+  py.FS.writeFile("/tmp/start.img", new Uint8Array(msg.image));
+  let fresh;
+  try {
+    fresh = openSession("/tmp/start.img", msg.rate);
+  } catch (e) {
+    const lines = String(e.message).trim().split("\n");
+    post("out", "\n" + msg.name + ": " + lines[lines.length - 1] + "\n");
+    post("ready", { prompt: session.prompt, ms: 0, version, isolated: !!ctl, phases: {}, kept: true });
+    return;
+  }
+  session.destroy();
+  session = fresh;
+  begin(t0, { rcl: Math.round(performance.now() - t0) });
 }
 
 function guarded(fn) {
@@ -93,8 +125,14 @@ function guarded(fn) {
 
 const handlers = {
   start: (msg) => start(msg).catch((e) => post("failed", String(e && e.message || e))),
-  line: (msg) => post("prompt", guarded(() => session.submit(msg.text, msg.shown || "")) || ""),
-  evaluate: (msg) => post("result", { id: msg.id, value: guarded(() => session.evaluate(msg.text)) }),
+  line: (msg) => {
+    post("prompt", guarded(() => session.submit(msg.text, msg.shown || "")) || "");
+    guarded(() => session.settle());
+  },
+  evaluate: (msg) => {
+    post("result", { id: msg.id, value: guarded(() => session.evaluate(msg.text)) });
+    guarded(() => session.settle());
+  },
   complete: (msg) => {
     const names = guarded(() => session.complete(msg.text));
     post("result", { id: msg.id, value: names ? names.toJs() : [] });
@@ -109,6 +147,7 @@ const handlers = {
   },
   "prompt-text": (msg) => post("result", { id: msg.id, value: session.prompt }),
   idle: () => guarded(() => session.catch_up()),
+  image: reopen,
   rate: (msg) => guarded(() => session.set_rate(msg.rate)),
   write: (msg) => py.FS.writeFile(msg.name, msg.text),
   remove: (msg) => { try { py.FS.unlink(msg.name); } catch (e) { /* gone already */ } },
