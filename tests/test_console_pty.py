@@ -16,7 +16,7 @@ import pytest
 pexpect = pytest.importorskip("pexpect")
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 20
+TIMEOUT = 120
 STATUS = r"\x1b\[24;1H\x1b\[7m([^\x1b]*)\x1b\[0m"
 
 

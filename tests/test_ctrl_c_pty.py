@@ -14,7 +14,7 @@ import pytest
 pexpect = pytest.importorskip("pexpect")
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 30
+TIMEOUT = 120
 FOOT = 341                                   # counts in 1 FEET
 
 

@@ -20,7 +20,7 @@ import pytest
 pexpect = pytest.importorskip("pexpect")
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 20
+TIMEOUT = 120
 NO_PROMPT_TOOLKIT = ("import sys; sys.modules['prompt_toolkit'] = None; "
                      "from rcl.cli import main; sys.exit(main())")
 
