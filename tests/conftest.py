@@ -3,6 +3,7 @@
 rcl's own pytest plugin."""
 import os
 import shutil
+import signal
 import tempfile
 
 import pytest
@@ -28,6 +29,11 @@ def pytest_configure(config):
     """The suite keeps rcl.open()'s start-up copies in a folder of its own
     (children it starts inherit it), never in the user's cache folder."""
     global _cache
+    # A run started in the background by a non-interactive shell (`pytest &`
+    # in a script, some CI runners) inherits SIGINT ignored, and every rcl
+    # it starts would too: the Ctrl-C tests would then see no Ctrl-C at all.
+    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     config.addinivalue_line("markers", "xdist_group(name): pytest-xdist runs a group on one worker")
     if "RCL_CACHE_DIR" not in os.environ:
         _cache = os.environ["RCL_CACHE_DIR"] = tempfile.mkdtemp(prefix="rcl-test-cache-")
