@@ -19,6 +19,7 @@ REAL_TIME = ("test_console_pty.py", "test_repl_pty.py", "test_ctrl_c_pty.py",
              "test_firmware_", "test_sessions.py", "test_web_page.py", "conformance")
 
 
+@pytest.hookimpl(tryfirst=True)         # before xdist's own hook reads the marks
 def pytest_collection_modifyitems(config, items):
     for item in items:
         if any(part in item.nodeid for part in REAL_TIME):
