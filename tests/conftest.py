@@ -3,6 +3,7 @@
 rcl's own pytest plugin."""
 import os
 import shutil
+import signal
 import tempfile
 
 import pytest
@@ -10,11 +11,31 @@ import pytest
 pytest_plugins = ["pytester"]
 _cache = None
 
+# Tests that run in real time (a pty, TCP, a firmware board, a browser):
+# under pytest-xdist (`-n 2 --dist loadgroup`) they all go to one worker,
+# so that two of them never compete for the wall clock at once.
+REAL_TIME = ("test_console_pty.py", "test_repl_pty.py", "test_ctrl_c_pty.py",
+             "test_link.py", "test_link_late.py", "test_link_serve.py",
+             "test_firmware_", "test_sessions.py", "test_web_page.py", "conformance")
+
+
+@pytest.hookimpl(tryfirst=True)         # before xdist's own hook reads the marks
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if any(part in item.nodeid for part in REAL_TIME):
+            item.add_marker(pytest.mark.xdist_group("real-time"))
+
 
 def pytest_configure(config):
     """The suite keeps rcl.open()'s start-up copies in a folder of its own
     (children it starts inherit it), never in the user's cache folder."""
     global _cache
+    # A run started in the background by a non-interactive shell (`pytest &`
+    # in a script, some CI runners) inherits SIGINT ignored, and every rcl
+    # it starts would too: the Ctrl-C tests would then see no Ctrl-C at all.
+    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    config.addinivalue_line("markers", "xdist_group(name): pytest-xdist runs a group on one worker")
     if "RCL_CACHE_DIR" not in os.environ:
         _cache = os.environ["RCL_CACHE_DIR"] = tempfile.mkdtemp(prefix="rcl-test-cache-")
 

@@ -14,9 +14,10 @@ import sys
 import pytest
 
 pexpect = pytest.importorskip("pexpect")
+from pty_support import close  # noqa: E402  (after the skip without pexpect)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 20
+TIMEOUT = 120
 STATUS = r"\x1b\[24;1H\x1b\[7m([^\x1b]*)\x1b\[0m"
 
 
@@ -38,7 +39,7 @@ def console(tmp_path):
         return children[-1]
     yield start
     for child in children:
-        child.close(force=True)
+        close(child)
 
 
 def leave(child):

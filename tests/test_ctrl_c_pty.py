@@ -12,9 +12,10 @@ import time
 import pytest
 
 pexpect = pytest.importorskip("pexpect")
+from pty_support import close  # noqa: E402  (after the skip without pexpect)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 30
+TIMEOUT = 120
 FOOT = 341                                   # counts in 1 FEET
 
 
@@ -34,7 +35,7 @@ def console(tmp_path):
                           dimensions=(24, 80))
     child.expect("BYE to leave")
     yield child
-    child.close(force=True)
+    close(child)
 
 
 def values(child, line, label, n=2):

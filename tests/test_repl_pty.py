@@ -18,9 +18,10 @@ import sys
 import pytest
 
 pexpect = pytest.importorskip("pexpect")
+from pty_support import close  # noqa: E402  (after the skip without pexpect)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 20
+TIMEOUT = 120
 NO_PROMPT_TOOLKIT = ("import sys; sys.modules['prompt_toolkit'] = None; "
                      "from rcl.cli import main; sys.exit(main())")
 
@@ -45,7 +46,7 @@ def child(terminal, tmp_path):
                          timeout=TIMEOUT, dimensions=(24, 80))
     proc.expect("rcl .*BYE to leave")
     yield proc
-    proc.close(force=True)
+    close(proc)
 
 
 def ctrl_d(child):
@@ -150,5 +151,5 @@ def test_a_file_error_at_a_terminal_stops_the_later_e_but_the_prompt_opens(tmp_p
         assert "111" not in child.before
         ctrl_d(child)
     finally:
-        child.close(force=True)
+        close(child)
     assert "Traceback" not in child.before

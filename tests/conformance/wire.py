@@ -25,6 +25,10 @@ BOARD_TYPES = set(range(0x81, 0x88))
 ANSWERS = {ACK, VALUE, REFUSED, RESULTS}
 
 LOCKSTEP = 0x01                 # IDENTIFY flags bit 0
+# How long a wait for an answer may last before the board is taken for
+# broken: a bound, never a measure, generous for a busy machine (a board
+# process starved of CPU answers late, not wrongly).
+BOUND = 10.0
 
 
 def crc16(data):
@@ -166,7 +170,7 @@ class Session:
         self.frames += got
         self.unread += got
 
-    def receive(self, want=None, seconds=2.0, keep_alive=True):
+    def receive(self, want=None, seconds=BOUND, keep_alive=True):
         """The next unread frame of a type in `want` (None: any); None
         after `seconds` (a bound for a broken board, not a measure).
         With keep_alive a PING goes out every 100 ms meanwhile."""
@@ -198,7 +202,7 @@ class Session:
         self.unread = []
         return self.frames[start:]
 
-    def receive_raw(self, raw, seconds=2.0):
+    def receive_raw(self, raw, seconds=BOUND):
         """The next frame that is `raw`, byte for byte (None: none came)."""
         end = time.monotonic() + seconds
         while time.monotonic() < end:
@@ -233,7 +237,7 @@ class Session:
         seq, self.seq = self.seq, self.seq % 255 + 1
         return seq
 
-    def request(self, type_, payload=b"", seq=None, seconds=2.0):
+    def request(self, type_, payload=b"", seq=None, seconds=BOUND):
         """One sequenced frame; -> its answer (ACK, VALUE, RESULTS or
         REFUSED carrying ack = SEQ), or None. TICKs and HEARTBEATs that
         come meanwhile stay unread for receive()."""
