@@ -129,7 +129,10 @@ def open_source(path, name=None):
 
 
 class Bye(RclError):
-    """BYE was executed: the caller should leave."""
+    """BYE was executed: the caller should leave. `output`: what the call
+    printed before BYE (as ForthError's), not left for the next call."""
+
+    output = ""
 
 
 class Terminated(BaseException):

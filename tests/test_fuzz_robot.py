@@ -7,6 +7,8 @@ import os
 
 import pytest
 
+import rcl
+
 import robot_fuzz
 
 LINES = 10_000 if os.environ.get("CI") else 2_000
@@ -27,3 +29,13 @@ def test_ten_thousand_random_lines_never_leave_a_motor_on_or_break_rcl():
     assert sum(outcomes.values()) == LINES
     assert outcomes["ok"] > LINES // 10                 # it did more than refuse
     assert not os.listdir(".")                          # and wrote no file
+
+
+def test_what_a_line_printed_before_bye_leaves_with_bye_not_in_the_next_lines_output():
+    # The fuzz's line 1,834 (seed 1): CREATE's warning came back as the canary's output.
+    m = robot_fuzz.machine()
+    with pytest.raises(rcl.Bye) as bye:
+        m.evaluate("END-AT CREATE ' BYE IS CONTROL")
+    assert bye.value.output == "' isn't unique "
+    assert m.evaluate("CANARY") == "3 "
+    assert robot_fuzz.run_line(m, "CREATE ' BYE") == "bye"     # its canary check passes

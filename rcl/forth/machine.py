@@ -281,7 +281,8 @@ class Forth(Inner, Outer):
         """Run action; any error aborts the machine and raises ForthError."""
         try:
             return action()
-        except Bye:
+        except Bye as exc:                 # its output leaves with it, as an error's does
+            exc.output = self.take_output()
             raise
         except (Exception, KeyboardInterrupt) as exc:   # never a traceback
             e = self.traced(exc)
