@@ -133,12 +133,16 @@ def test_the_native_tick_is_10_0005_ms_not_10(raw):
     for seq in range(2, 62):
         assert link.ask(seq, "OUT8", port=0x88, value=0x05 if seq & 1 else 0x01).name == "ACK"
     assert link.board.wait_for(lambda: len(link.board.events("motor")) >= before + 60)
+    # every note from `before` on (a 61st may come in between: the count
+    # is read while the first RUN's notes still arrive) falls on its
+    # 10.0005 ms tick, and not every one on a 10 ms tick
+    notes = link.board.events("motor")[before:]
     exact = ten_ms = 0
-    for note in link.board.events("motor")[before:]:
+    for note in notes:
         steps = (note["us"] - start["us"]) // 1000
         exact += note["tick"] - start["tick"] == native_ticks(20_001, steps)
         ten_ms += note["tick"] - start["tick"] == native_ticks(20_000, steps)
-    assert exact == 60 and ten_ms < 60
+    assert len(notes) >= 60 and exact == len(notes) and ten_ms < len(notes)
 
 
 def test_a_period_shorter_than_2_5_ms_ticks_every_2_5_ms(raw):
