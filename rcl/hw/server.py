@@ -68,7 +68,6 @@ class BoardClock:
     wall clock; the machine API a SimBoard needs (rcl/board.py)."""
 
     waiting_until = None
-    budget_end = float("inf")
 
     def __init__(self, server, wall=time.monotonic, rate=1.0):
         self.server, self.wall, self.rate = server, wall, rate
