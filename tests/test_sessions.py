@@ -36,8 +36,9 @@ import pytest
 import rcl
 from rcl.hw import protocol as P
 from firmware_support import BoardProcess, harness_built, native_program, uno_image
+from suite_size import scaled
 
-SESSIONS = 20 if os.environ.get("CI") else 5
+SESSIONS = scaled(20, 5)
 FIRST = "RERB 1 INCHES FORWARD"
 READ = " 300 MS ?CNT1 D. ?CNT2 D."           # the wheels at rest, then RCL's counters
 
