@@ -11,12 +11,14 @@ import pytest
 
 import rcl
 from rcl.hw import protocol as P
+from firmware_support import board_priority
 
 
 @pytest.fixture
 def free_running_board():
-    proc = subprocess.Popen([sys.executable, "-m", "rcl.hw.boardcli", "--pty", "--free-running"],
-                            stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
+    proc = board_priority(subprocess.Popen(
+        [sys.executable, "-m", "rcl.hw.boardcli", "--pty", "--free-running"],
+        stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True))
     yield proc.stdout.readline().strip()
     proc.terminate()
     proc.wait(10)

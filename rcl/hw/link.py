@@ -637,6 +637,12 @@ class LinkBoard(Board):
         late is the host's doing, not the motors': say so, with the figure
         (docs/protocol.md section 5). A lost link stays Link lost: a cut
         line is the truth whatever the host did before it."""
+        lost = self.machine.stop_error if self.machine is not None else None
+        if lost is not None and lost is not error:
+            # the link went while a word failed of it (a read gave 0xFF):
+            # the link is the cause to report
+            lost.file, lost.line = error.file, error.line
+            return lost
         late = self.replay.take_late()
         if late is None or error.message != "Following error":
             return error

@@ -144,6 +144,7 @@ class BoardServer:
         self.done = False            # ... and its final TICK_DONE has come
         self.cutting = False
         self.host_at = self.host_us = None   # lockstep: where the host's CLOCK put the board
+        self.moved_by_host = 0                # board time CLOCK moved on (not silence)
         self.hello_at = None                 # ... and the host's time 0 (for the tests)
         self.watchdog_at = self.last_valid_clock = None   # board times, for tests
         self.quiet_at = None                 # wall time the host was last given up
@@ -157,8 +158,11 @@ class BoardServer:
         """The board's time as far as this server has run it, in seconds: a
         host in the same process judges the board's silence by it, so a busy
         machine that keeps this thread waiting is not a lost link (a cut is:
-        the board's time goes on, its frames do not come)."""
-        return self.clock.clock / CLOCK_HZ
+        the board's time goes on, its frames do not come). Time a host's
+        CLOCK moved the board on at once is not counted: the host, looking
+        between that jump and the board's answer, would take it for 250 ms
+        of silence."""
+        return (self.clock.clock - self.moved_by_host) / CLOCK_HZ
 
     # ----------------------------------------------------------- the loop
     def run_until(self, now):
@@ -420,10 +424,15 @@ class BoardServer:
             self.host_at, self.host_us = self.clock.now(), us
         self.host_at += ((us - self.host_us) & 0xFFFFFFFF) * US
         self.host_us = us
+        # (counted before the jump, put right after: a look from the host's
+        # reader thread meanwhile sees less time gone, never more)
+        before, jump = self.clock.clock, max(0, self.host_at - self.clock.clock)
+        self.moved_by_host += jump
         self.run_until(self.host_at)
         if self.awaiting is None:
             self.clock.catch_up(self.host_at)
             self.clock.hold()
+        self.moved_by_host += (self.clock.clock - before) - jump
 
     # ------------------------------------------------------------ serving
     def serve_fd(self, fd, stop, on_idle=None):

@@ -92,6 +92,8 @@ class Serial(SerialBase):
         while len(out) < size:
             left = timeout.time_left() if self._timeout is not None else None
             if not select.select([self._sock], [], [], left)[0]:
+                if not self._thread.is_alive():
+                    raise SerialException("the simulated board went away")
                 break
             data = self._sock.recv(size - len(out))
             if not data:
@@ -102,9 +104,19 @@ class Serial(SerialBase):
         return bytes(out)
 
     def write(self, data):
+        """All of data, unless the board's thread has ended (a fault in the
+        simulation): then the port fails, as a serial port whose device
+        went away does, rather than wait for ever on a full socket."""
         if not self.is_open:
             raise PortNotOpenError()
-        self._sock.sendall(bytes(data))
+        import select
+        view = memoryview(bytes(data))
+        while view:
+            if not select.select([], [self._sock], [], 0.1)[1]:
+                if not self._thread.is_alive():
+                    raise SerialException("the simulated board went away")
+                continue
+            view = view[self._sock.send(view):]
         return len(data)
 
     def reset_input_buffer(self):
