@@ -191,3 +191,27 @@ def test_any_other_index_error_in_a_word_is_an_internal_error_tests_can_see(monk
     assert e.value.code == -4095
     assert "IndexError" in e.value.message
     assert m.evaluate("2 3 + .") == "5 "
+
+
+def test_the_compiler_asks_an_instructions_kind_and_never_compares_its_name():
+    """What the compiler does with each kind of instruction is one class in
+    compile_kinds.py (adding a kind is one edit there): no other module of
+    the compiler tests an instruction's op against a kind's name."""
+    import ast
+    import inspect
+    from rcl.forth import compile_block, compile_kinds, compile_loops, decode, loop_shape
+    names = {k.name for k in vars(compile_kinds).values()
+             if isinstance(k, compile_kinds.Kind) and k.name is not None}
+    assert {"simple", "literal", "call", "colon", "defer", "inline", "enter"} <= names
+    for module in (compiler, compile_block, compile_loops, decode, loop_shape):
+        for node in ast.walk(ast.parse(inspect.getsource(module))):
+            if isinstance(node, ast.Compare) and any(
+                    getattr(n, "attr", getattr(n, "id", None)) == "op" for n in ast.walk(node)):
+                said = {c.value for c in ast.walk(node) if isinstance(c, ast.Constant)}
+                assert not said & names, (module.__name__, ast.unparse(node))
+    m = rcl.Forth()
+    m.evaluate(": SQ  DUP * ;  5 CONSTANT C  : W  0 10 0 DO I SQ + LOOP ['] SQ EXECUTE C + . ;")
+    code, _ = walk(m, (m.dictionary.find("W")[0] + 2) & 0xFFFF)
+    kinds = {i.kind for i in code.values()}
+    assert all(isinstance(k, compile_kinds.Kind) for k in kinds)
+    assert {compile_kinds.LITERAL, compile_kinds.INLINE, compile_kinds.CONST} <= kinds

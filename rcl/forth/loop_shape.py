@@ -122,7 +122,7 @@ def region(blocks, index, first, last):
     if len(after) != last - first + 1 or -low > CARRY_LIMIT:
         return None
     heads = {first} | {j for k in succ for j in succ[k] if j <= k}
-    uses_i = any(i.op == "simple" and i.prim.name == "I"
+    uses_i = any(i.prim is not None and i.prim.name == "I"
                  for k in range(first, last + 1) for i in blocks[k][1])
     return Region(first, last, {k: d - low for k, d in depth.items()},
                   {k: d - low for k, d in after.items()},
