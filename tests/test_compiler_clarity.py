@@ -5,6 +5,7 @@ the Python a word becomes."""
 import pytest
 
 import rcl
+import rcl.words  # noqa: F401  (every word set registered: the templates tested below)
 from rcl.forth import compiler, control
 from rcl.forth.compiler import Gen, source, walk
 from rcl.forth.primitives import HELPERS, REGISTRY, Template
@@ -215,3 +216,18 @@ def test_the_compiler_asks_an_instructions_kind_and_never_compares_its_name():
     kinds = {i.kind for i in code.values()}
     assert all(isinstance(k, compile_kinds.Kind) for k in kinds)
     assert {compile_kinds.LITERAL, compile_kinds.INLINE, compile_kinds.CONST} <= kinds
+
+
+def test_an_inlinable_primitive_has_one_body_its_template():
+    """The function the interpreter calls is made from the template (so it
+    cannot differ from what the compiler pastes); a second body is refused."""
+    from rcl.forth import primitives
+    plus = primitives.BY_NAME["+"]
+    doc = primitives.__doc__
+    shown = doc[doc.index("    def f(m):"):].split("\n\n")[0]
+    assert [line.split("#")[0].strip() for line in shown.splitlines()] == \
+        [line.strip() for line in plus.fn.source.splitlines()]
+    assert all(p.fn.source for p in REGISTRY[1:] if p and p.template is not None)
+    with pytest.raises(ValueError, match="made from its inline template"):
+        primitives.prim("X", "( a -- a )", inline=("a", ("a",)))(lambda m: None)
+    assert "X" not in primitives.BY_NAME
