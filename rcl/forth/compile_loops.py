@@ -66,8 +66,8 @@ is one `while` too, its blocks in the shape of the source:
     : ODDS  0 10 0 DO  I 1 AND IF  I +  THEN  LOOP ;
 
     _lim = rs[-2]; _i = rs[-1]
-    if len(s) < 1:                            # too short: the reference loop runs it
-        m.clock = clk; clk = -1; return m.run_from(6649, d0)
+    if len(s) < 1:                            # too short: the reference loop runs it,
+        ...                                   # m.run_from(the loop's first cell, d0)
     _k0 = s.pop()                             # the cells the body works on
     _I = (_i + _lim) & 0xFFFF                 # I, once an iteration
     _d = 1
