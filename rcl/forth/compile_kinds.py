@@ -308,7 +308,8 @@ class Enter(Kind):
     def may_store(self, ins):
         return False
 
-    loop_op = keeps_rs
+    def loop_op(self, ins):
+        return True
 
     def stack_effect(self, ins):
         return 0, 0

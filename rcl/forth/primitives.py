@@ -29,6 +29,8 @@ Kinds:
   call     fn(m) may run Forth code, change the clock or the interrupt
            deadline: the compiler ends a block after it.
   runtime  what a code field of a defined word does (DOCOL, DOVAR, ...).
+The compiler's kinds of instruction (compile_kinds.py) are made from these
+once, where decode.py decodes a cell.
 
 Inline templates: (inputs, outputs[, statement]). Inputs name the popped
 cells, deepest first; outputs are Python expressions over them, pushed in
