@@ -126,3 +126,27 @@ def test_code_larger_than_the_dictionary_is_left_to_the_reference_loop_with_the_
             assert not any(hasattr(f, "source") for f in m.fn.values())   # not compiled
     assert out[0] == out[1]
     assert (0xCC00 - 0x480) // 2 == WALK_LIMIT
+
+
+def test_code_whose_python_would_be_too_large_is_left_to_the_reference_loop_with_the_same_outcome(
+        monkeypatch):
+    # Memory stays bounded whatever the input: the robot fuzz's line 1,835
+    # sent the tick handler into data that decoded as 14 MB of Python, and
+    # Python's compiler took 1.2 GB for it. Past SOURCE_LIMIT characters the
+    # reference loop runs the code; here a smaller limit and 100 IF ELSE
+    # THENs (155 KB of Python) stand for it.
+    from rcl.forth import compiler
+    assert compiler.SOURCE_LIMIT == 2_000_000        # 1,000 IF THENs still compile
+    monkeypatch.setattr(compiler, "SOURCE_LIMIT", 100_000)
+    out = []
+    for compiled in (True, False):
+        m = rcl.Forth()
+        m.compiled = compiled
+        m.evaluate(": J  0\n" + "DUP 3 AND IF 1+ ELSE 2 + THEN\n" * 100 + ";")
+        out.append((m.evaluate("J ."), m.clock))
+        if compiled:
+            assert not hasattr(m.fn[body(m, "J")], "source")     # not compiled
+    x = 0
+    for _ in range(100):
+        x += 1 if x & 3 else 2
+    assert out[0] == out[1] == ("%d " % x, out[1][1])

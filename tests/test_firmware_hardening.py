@@ -8,7 +8,6 @@ safe.
 
 As in test_firmware_native.py, everything counts board ticks or board
 time, never the wall clock; wall-clock waits only bound a broken board."""
-import os
 import subprocess
 import time
 
@@ -17,6 +16,7 @@ import pytest
 from firmware_support import (BUILD, FIRST_COMMAND, PER_MOVE, RawLink, build, connect, counts,
                               simulated, uno_image, within)
 from firmware_support import native_board, simavr  # noqa: F401 (fixtures)
+from suite_size import FULL
 
 CORE_TEST = BUILD / "core-test"
 
@@ -267,7 +267,7 @@ LAG_WATCH = [
 ]
 
 
-@pytest.mark.skipif(not os.environ.get("CI"), reason="a 41 s move in real time, run under CI; "
+@pytest.mark.skipif(not FULL, reason="a 41 s move in real time, run under CI; "
                     "the tick's arithmetic test holds it over 2 million ticks")
 def test_a_300_foot_move_keeps_its_lag_from_start_to_end(native_board):
     # 102,272 counts at 5 MPH (41 s, in real time: a host on a busy

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 import rcl
 from rcl.forth.memory import MASK
 from robot_fuzz import HOST_FILES, reset_user_state
+from suite_size import scaled
 
 # Words whose purpose is to write memory at an address from the stack, or to
 # run an xt from the stack. With random numbers they overwrite the
@@ -66,8 +67,8 @@ def survives(m, text):
     assert m.evaluate("CANARY") == "3 "
 
 
-# 10,000 lines in CI (CI set), 2,000 in a default run (the suite stays quick).
-@settings(max_examples=10_000 if os.environ.get("CI") else 2_000, deadline=None,
+# 10,000 lines in CI (CI set), 1,000 in a default run (the suite stays quick).
+@settings(max_examples=scaled(10_000, 1_000), deadline=None,
           derandomize=True, database=None,
           suppress_health_check=list(HealthCheck))
 @given(line)

@@ -10,8 +10,9 @@ import pytest
 import rcl
 
 import robot_fuzz
+from suite_size import scaled
 
-LINES = 10_000 if os.environ.get("CI") else 2_000
+LINES = scaled(10_000, 2_000)
 
 
 @pytest.fixture(autouse=True)

@@ -7,6 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rcl.sim.board import count_out
+from suite_size import scaled
 
 C = 1_000_000                                    # one primitive, clock units
 
@@ -26,7 +27,7 @@ def one_by_one(clock, n, c, d, period, cost, limit):
     return clock, n, ticks, last
 
 
-@settings(max_examples=2000, deadline=None, derandomize=True, database=None)
+@settings(max_examples=scaled(2000, 500), deadline=None, derandomize=True, database=None)
 @given(clock=st.integers(0, 10**12), n=st.integers(1, 5_000), c=st.integers(1, 3 * C),
        ahead=st.integers(-5 * C, 400 * C), period=st.integers(C // 2, 400 * C),
        cost=st.integers(0, 400 * C), budget=st.one_of(st.none(), st.integers(0, 10**11)))

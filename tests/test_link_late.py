@@ -40,7 +40,10 @@ def test_a_host_150_ms_late_with_every_tick_is_told_host_too_slow_with_the_figur
         late_host(m, 0.150)
         with pytest.raises(rcl.ForthError) as e:
             m.evaluate("RERB 2 MPH 3.4 FEET FORWARD")
-        found = re.fullmatch(r"Host too slow: answered tick (\d+) after (\d+) ms", e.value.message)
+        # (or, the process stalled past the board's watchdog meanwhile, the
+        # board went quiet: that too is the host too slow, with its figure)
+        found = re.match(r"Host too slow: (answered tick \d+ after|silent) (\d+) ms",
+                         e.value.message)
         assert found, e.value.message
         assert int(found.group(2)) >= 150
         assert e.value.screen().startswith(" Host too slow")
@@ -99,5 +102,48 @@ def test_a_board_frame_the_board_no_longer_keeps_ends_in_link_lost_not_a_wait_fo
                         "cold JIT): no moment with nothing in flight; ended %s" % e.value)
         assert e.value.message.startswith(("Link lost", "Host too slow"))
         assert m.board.why == "board frame %d was not sent again" % lost[0][2]
+    finally:
+        m.board.close()
+
+
+def stall_process(seconds):
+    """This whole process stopped for `seconds`, as a long garbage
+    collection stops it: the running thread keeps the interpreter (no
+    switch to the link's reader thread meanwhile), so nothing is sent."""
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(seconds * 10)
+    try:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            pass
+    finally:
+        sys.setswitchinterval(interval)
+
+
+def test_a_host_silent_past_the_boards_watchdog_is_told_so_not_control_loop_stalled(
+        free_running_board):
+    # A whole process stopped sends nothing, PINGs included: the board's
+    # watchdog (250 ms) goes quiet, motors off, tick stopped. The host says
+    # so when it sees the tick stop (docs/protocol.md section 6), where it
+    # used to wait out 100 HALTs and say " Control loop stalled ".
+    m = rcl.open(port=free_running_board)
+    try:
+        board = m.board
+        run_tick = board.run_tick
+
+        def tick(machine, t):
+            if board.ticks == 30:
+                stall_process(0.6)
+            return run_tick(machine, t)
+        board.run_tick = tick
+        with pytest.raises(rcl.ForthError) as e:
+            m.evaluate("RERB 1 MPH 3 FEET FORWARD")
+        found = re.fullmatch(r"Host too slow: silent (\d+) ms, past the board's 250 ms watchdog; "
+                             r"the board stopped the motors and its tick \(INSTALL starts it\)",
+                             e.value.message)
+        assert found, e.value.message
+        assert int(found.group(1)) > 250          # (another thread may squeeze in a frame)
+        board.run_tick = run_tick
+        assert m.evaluate("INSTALL RERB 1 INCHES FORWARD") == ""   # the session goes on
     finally:
         m.board.close()

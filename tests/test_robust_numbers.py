@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rcl
+from suite_size import scaled
 
 MAX_COUNTS = 2**31 - 1            # what 32-bit counts hold
 
@@ -151,9 +152,11 @@ def test_36_ips_for_a_mile_ends_on_the_mile_without_a_following_error():
     # The reference's long move (rcl-words.md section 6), 29 simulated
     # minutes. The reference says 1,800,005 counts: its q was counted in
     # 10 ms ticks, and the wheel, 0.005 % ahead all mile, arrived fast. With
-    # the true 10.0005 ms tick it creeps in and stops on MOVE-END.
+    # the true 10.0005 ms tick it creeps in and stops on MOVE-END. (A
+    # default run drives its first tenth: 180,000 counts.)
+    miles, counts = scaled(("1", 1_800_000), ("0.1", 180_000))
     m = rcl.open()
-    m.evaluate("36 IPS 1 MILES FORWARD")
+    m.evaluate("36 IPS %s MILES FORWARD" % miles)
     m.sim.run(1.0)
-    assert m.sim.wheel_counts == pytest.approx((1_800_000, 1_800_000), abs=2)
+    assert m.sim.wheel_counts == pytest.approx((counts, counts), abs=2)
     assert m.evaluate("FERR ?") == "0 "

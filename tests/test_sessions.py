@@ -36,8 +36,9 @@ import pytest
 import rcl
 from rcl.hw import protocol as P
 from firmware_support import BoardProcess, harness_built, native_program, uno_image
+from suite_size import scaled
 
-SESSIONS = 20 if os.environ.get("CI") else 5
+SESSIONS = scaled(20, 5)
 FIRST = "RERB 1 INCHES FORWARD"
 READ = " 300 MS ?CNT1 D. ?CNT2 D."           # the wheels at rest, then RCL's counters
 
@@ -291,17 +292,8 @@ def hostile(raw, seed, frames=120):
 
 
 # ------------------------------------------------------------------ tests
-# Known, not yet explained: in a whole run of the suite (CPython and PyPy,
-# on an idle machine too) a session on rcl-board now and then sees its
-# first move end "Control loop stalled" with 0 or 1 ticks received (session
-# 2, 12 or 13 of 20), and the Uno's session 4-9 "Control loop not running";
-# run alone, this file passes. No session read wrong counts. Run and
-# reported, not yet required, until the cause is found.
-IN_A_WHOLE_RUN = pytest.mark.xfail(reason="a whole suite run: sometimes Control loop "
-                                          "stalled, 0-1 ticks (not alone)", strict=False)
 
 
-@IN_A_WHOLE_RUN
 @pytest.mark.parametrize("kind", ["tcp", "pty", "native", "uno"])
 def test_sessions_one_after_another_on_one_running_board_drive_the_first_commands_counts(
         kind, running, image):
@@ -320,7 +312,6 @@ def test_sessions_one_after_another_on_one_running_board_drive_the_first_command
     assert all(within_a_count(counts, first, slack) for counts in later)
 
 
-@IN_A_WHOLE_RUN
 @pytest.mark.parametrize("kind", ["tcp", "native", "uno"])
 def test_a_session_after_a_hostile_client_starts_clean_and_its_first_move_is_exact(
         kind, running, image):
@@ -406,7 +397,6 @@ def test_a_start_that_fails_after_connecting_leaves_the_board_to_the_next_host(
     assert all(abs(c - 29) <= 2 for c in session(b.where, image))
 
 
-@IN_A_WHOLE_RUN
 def test_a_client_that_connects_and_says_nothing_is_dropped_when_a_host_asks(running, image):
     b = running("tcp")
     raw = b.raw()                                  # connects, sends nothing

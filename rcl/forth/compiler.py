@@ -113,7 +113,7 @@ from rcl.forth.compile_block import (WIDE_DPL, BlockGen, BlockState,  # noqa: F4
                                      forth_of)                          # core.py)
 from rcl.forth.compile_loops import LoopGen, LoopState
 from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
-from rcl.forth.decode import NO_TERMINATOR, call_depth, decode, walk  # noqa: F401
+from rcl.forth.decode import NO_TERMINATOR, TooLarge, call_depth, decode, walk  # noqa: F401
 from rcl.forth.inner import (COMPILED, CONTROL, N, RSTACK_CELLS,  # (decode: for SEE)
                              decode_args)
 
@@ -482,10 +482,19 @@ class Gen(BlockGen, LoopGen):
         return "\n".join(self.lines), marks
 
 
+# Python's own compiler takes about 90 bytes of memory a character: the
+# largest word of the system is some 20 KB of Python; a wild EXECUTE into
+# data once made 14 MB of it and took 1.2 GB and 20 s. Past this the
+# reference loop runs the code, with the same outcome.
+SOURCE_LIMIT = 2_000_000
+
+
 def compile_code(m, entry):
     """Compile the threaded code at entry; returns the Python function."""
     gen = Gen(m, entry)
     src, marks = gen.build()
+    if len(src) > SOURCE_LIMIT:
+        raise TooLarge("code at %d would be %d characters of Python" % (entry, len(src)))
     env = types.ModuleType(COMPILED).__dict__   # (PyPy's JIT reads a module's
     env.update(gen.consts)                      # globals as constants, a dict's not)
     env.update(HELPERS)

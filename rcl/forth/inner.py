@@ -352,6 +352,10 @@ class Inner:
         Any error in it is a tick fault: the board makes itself safe (motors
         and tick off) and the error, naming the handler, goes on to the
         foreground, whatever word that was running."""
+        # The handler's second starts here, not at the interrupt: a board on
+        # a link may first move the clock on to its tick's time (catch_up).
+        self.handler_deadline = self.clock + HANDLER_LIMIT
+        self.reschedule()
         try:
             self.execute(xt)
         except BaseException as exc:        # noqa: B036  (Bye and Ctrl-C included)

@@ -83,6 +83,7 @@ class LinkBoard(Board):
         self.skipped = self.retries = 0
         self.period = self.replay.period = 10_000 * US
         self.ticking = False
+        self.silent_for = 0.0                 # s: our longest silence past the board's watchdog
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
         self.bytes_out = self.bytes_in = 0
         self.name = ""
@@ -130,7 +131,7 @@ class LinkBoard(Board):
                 self.session.go(S.CLOSED)
                 raise
         self.seq, self.pending = 1, None
-        self.last_tx = time.monotonic()
+        self.last_tx, self.silent_for = time.monotonic(), 0.0
         # Silence is judged on the board's own clock where the port can
         # tell it (rclsim://: a board in this process, which a busy host
         # may keep from running), else on the wall clock less our stalls.
@@ -309,9 +310,19 @@ class LinkBoard(Board):
                 failed = e
             else:
                 self.bytes_out += len(data)
-                self.last_tx = time.monotonic()
+                self.heard_from_us(time.monotonic())
                 return
         self.port_failed(failed)              # (outside the lock: it sends SAFE)
+
+    def heard_from_us(self, now):
+        """A frame went out at `now`. A gap since the last one beyond the
+        board's watchdog (this whole process stopped: a long garbage
+        collection, a machine that did not schedule it) is kept: if the
+        board's tick then stops, that is why."""
+        gap = now - self.last_tx
+        if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
+            self.silent_for = max(self.silent_for, gap)
+        self.last_tx = now
 
     def port_failed(self, e):
         loss = Loss(Cause.PORT, "port: %s" % e)
@@ -475,6 +486,7 @@ class LinkBoard(Board):
             return super().out16(port, word)
         self.flush_tick_writes()
         self.io("OUT16", port=port, value=word)
+        self.silent_for = 0.0                 # a stop from here on is our own
         if not self.replay.active and not self.lost:
             # The timer may tick now: wait for its first tick a period on (a
             # HEARTBEAT says if none comes), so the host's time meets it there.
@@ -539,11 +551,25 @@ class LinkBoard(Board):
             if event.name == "TICK":
                 self.ticking = True
                 return self.run_tick(m, event)
+            if self.ticking and not event["ticking"] and self.silent_for:
+                return self.watchdog_tripped(m)
             self.ticking = bool(event["ticking"])
             if not self.ticking and self.lockstep is not None:
                 self.lockstep.follows = following = True   # the board keeps our time again
             elif not self.ticking:
                 m.catch_up(self.replay.heartbeat_time(event["time_us"], m.clock, US))
+
+    def watchdog_tripped(self, m):
+        """The board stopped its tick unasked after we were silent past
+        its watchdog (docs/protocol.md section 6): it has gone quiet, motors
+        off. Say so, with the figure, rather than wait for ticks that will
+        not come (the running word would end Control loop stalled)."""
+        silent, self.silent_for = self.silent_for, 0.0
+        self.ticking, self.due = False, None
+        m.request_stop(ForthError(
+            -293, "Host too slow: silent %d ms, past the board's %d ms watchdog; the board "
+            "stopped the motors and its tick (INSTALL starts it)"
+            % (round(silent * 1000), P.WATCHDOG_MS)))
 
     def next_event(self, block):
         """The next TICK or HEARTBEAT (None: none waiting, when not to
