@@ -5,6 +5,7 @@ the Python a word becomes."""
 import pytest
 
 import rcl
+import rcl.words  # noqa: F401  (every word set registered: the templates tested below)
 from rcl.forth import compiler, control
 from rcl.forth.compiler import Gen, source, walk
 from rcl.forth.primitives import HELPERS, REGISTRY, Template
@@ -191,3 +192,42 @@ def test_any_other_index_error_in_a_word_is_an_internal_error_tests_can_see(monk
     assert e.value.code == -4095
     assert "IndexError" in e.value.message
     assert m.evaluate("2 3 + .") == "5 "
+
+
+def test_the_compiler_asks_an_instructions_kind_and_never_compares_its_name():
+    """What the compiler does with each kind of instruction is one class in
+    compile_kinds.py (adding a kind is one edit there): no other module of
+    the compiler tests an instruction's op against a kind's name."""
+    import ast
+    import inspect
+    from rcl.forth import compile_block, compile_kinds, compile_loops, decode, loop_shape
+    names = {k.name for k in vars(compile_kinds).values()
+             if isinstance(k, compile_kinds.Kind) and k.name is not None}
+    assert {"simple", "literal", "call", "colon", "defer", "inline", "enter"} <= names
+    for module in (compiler, compile_block, compile_loops, decode, loop_shape):
+        for node in ast.walk(ast.parse(inspect.getsource(module))):
+            if isinstance(node, ast.Compare) and any(
+                    getattr(n, "attr", getattr(n, "id", None)) == "op" for n in ast.walk(node)):
+                said = {c.value for c in ast.walk(node) if isinstance(c, ast.Constant)}
+                assert not said & names, (module.__name__, ast.unparse(node))
+    m = rcl.Forth()
+    m.evaluate(": SQ  DUP * ;  5 CONSTANT C  : W  0 10 0 DO I SQ + LOOP ['] SQ EXECUTE C + . ;")
+    code, _ = walk(m, (m.dictionary.find("W")[0] + 2) & 0xFFFF)
+    kinds = {i.kind for i in code.values()}
+    assert all(isinstance(k, compile_kinds.Kind) for k in kinds)
+    assert {compile_kinds.LITERAL, compile_kinds.INLINE, compile_kinds.CONST} <= kinds
+
+
+def test_an_inlinable_primitive_has_one_body_its_template():
+    """The function the interpreter calls is made from the template (so it
+    cannot differ from what the compiler pastes); a second body is refused."""
+    from rcl.forth import primitives
+    plus = primitives.BY_NAME["+"]
+    doc = primitives.__doc__
+    shown = doc[doc.index("    def f(m):"):].split("\n\n")[0]
+    assert [line.split("#")[0].strip() for line in shown.splitlines()] == \
+        [line.strip() for line in plus.fn.source.splitlines()]
+    assert all(p.fn.source for p in REGISTRY[1:] if p and p.template is not None)
+    with pytest.raises(ValueError, match="made from its inline template"):
+        primitives.prim("X", "( a -- a )", inline=("a", ("a",)))(lambda m: None)
+    assert "X" not in primitives.BY_NAME

@@ -44,14 +44,9 @@ line after it checks (`statement`, compiler.py's `stale_check`).
 """
 import ast
 
-from rcl.forth.decode import (keeps_rs, literal_template, rs_growth, rt_2con, rt_con,
-                              rt_enter, rt_exit)
-from rcl.forth.inner import RSTACK_CELLS, rt_push
-from rcl.forth.control import BY_NAME as CONTROL_OPS
+from rcl.forth.inner import RSTACK_CELLS
 from rcl.forth.control import INDEX, LIMIT, frame_cell, index_of
-from rcl.forth.memory import MASK, signed
-
-TERMINAL_NAMES = set(CONTROL_OPS)            # (forth_of: shown by their own names)
+from rcl.forth.memory import MASK
 
 # A DO loop run as a Python while keeps its frame's index' and limit' in
 # _i and _lim (compile_loops.py): these lines move them, I is computed so.
@@ -64,31 +59,10 @@ I_LOCAL = index_of("_i", "_lim")
 WIDE_DPL = "wide"
 
 
-def may_store(ins):
-    """May ins, run by its Python function, store to memory or run Python
-    that does (and so change compiled code)?"""
-    if ins.op in ("enter", "exit", "var", "con", "const", "2con"):
-        return False
-    tpl = literal_template(ins) or (ins.prim.template if ins.op == "simple" else None)
-    return tpl is None or bool(tpl.uses & {"W", "m"})
-
-
 def forth_of(m, ins):
     """The Forth an instruction came from, as a comment shows it: a
     number for a literal, a word's name for a call, the primitive's name."""
-    op, p = ins.op, ins.prim
-    if op in ("simple", "call") or op in TERMINAL_NAMES:
-        return p.name
-    if op == "literal":
-        lit = p.extra.get("lit")
-        if lit is None:
-            return " ".join([p.name] + [str(a) for a in ins.args if isinstance(a, int)])
-        cells, _ = lit(ins.args)
-        if len(cells) == 2:
-            return str(signed(cells[0]) if cells[1] == 0 else (cells[1] << 16 | cells[0]))
-        return str(signed(cells[0]))
-    name = m.dictionary.name_of(ins.xt)
-    return name if name else "xt %d" % ins.xt
+    return ins.kind.forth(m, ins)
 
 
 def watch_test(line):
@@ -290,72 +264,32 @@ class BlockGen:
         self.stale_check(self.blk.at_next, ind, clock)
 
     def op_simple(self, ins, ind):
+        """One instruction of a block's fast path: what its kind writes
+        (compile_kinds.py), after what it needs of the return stack."""
         self.blk.at_next = ins.next
-        p, op = ins.prim, ins.op
+        p, kind = ins.prim, ins.kind
         # A word set may compile its own primitive (the Locals word set keeps
         # a frame's cells in Python locals: rcl/words/localvars.py); -> True if done.
         hook = p.extra.get("compile") if p is not None else None
         if hook is not None and hook(self, ins.args, ind):
             return
-        tpl = literal_template(ins)
-        if not keeps_rs(ins, tpl):
+        tpl = kind.template(ins)
+        if not kind.keeps_rs(ins, tpl):
             self.forget_rs(ind)
-        if rs_growth(ins) is None:
+        if kind.rs_growth(ins) is None:
             self.blk.rs_unknown = True
-        if op == "enter":                          # an inlined call (decode.py): the
-            self.blk.open_calls += 1                   # block's check saw the depth it needs,
-            if self.blk.rs_unknown:                    # unless Python code ran before it
-                self.call_check(ind)
-            self.blk.inlined.append(ins.addr)
-            self.blk.open_rets.append(str(ins.args[0]))
-        elif op == "exit":
-            self.blk.open_calls -= 1
-            if self.blk.inlined:
-                self.blk.inlined.pop()
-                self.blk.open_rets.pop()
-        elif op == "literal":
-            lit = p.extra.get("lit")
-            if lit is not None:                    # numbers: pushed as constants
-                cells, dpl = lit(ins.args)
-                self.blk.vs.extend(str(c) for c in cells)
-                if dpl is not None:
-                    self.blk.dpl = dpl
-                return
-            if tpl is not None:                    # made from the inline cells
-                self.op_inline(p, ind, tpl)
-                return
-            self.flush(ind)
-            self.blk.index_atom = None
-            self.clock_out(ind)
-            self.emit("%s(m, *%r)" % (self.const(p.fn, "P"), ins.args), ind)
-            self.stale_check(ins.next, ind)
-            self.clock_in(ind)
-        elif op == "var":
-            self.blk.vs.append(str(ins.args[0]))
-        elif op == "const":                        # its cell is watched (decode.py)
-            self.blk.vs.append(str(self.m.memory.fetch(ins.args[0])))
-        elif op in ("con", "2con"):
-            self.flush_dpl(ind)
-            a = ins.args[0]
-            cell = "(mem[%d] | (mem[%d] << 8))"
-            if op == "con":
-                t = self.temp()
-                self.emit("%s = %s" % (t, cell % (a, (a + 1) & MASK)), ind, "mem")
-                self.blk.vs.append(t)
-            else:
-                lo, hi = self.temp(), self.temp()
-                self.emit("%s = %s" % (lo, cell % ((a + 2) & MASK, (a + 3) & MASK)), ind, "mem")
-                self.emit("%s = %s" % (hi, cell % (a, (a + 1) & MASK)), ind)
-                self.blk.vs.extend((lo, hi))
-        elif p.template is not None:
-            self.op_inline(p, ind)
-        else:
-            self.flush(ind)
-            self.blk.index_atom = None               # Python code may move the loop frame
-            self.clock_out(ind)
-            self.emit("%s(m)" % self.const(p.fn, "P"), ind)
-            self.stale_check(ins.next, ind)
-            self.clock_in(ind)
+        kind.fast(self, ins, tpl, ind)
+
+    def python_call(self, call, ins, ind):
+        """A primitive run as Python (the statement `call`) in the middle of
+        a block: the stack written back, the clock handed over, and a check
+        that it did not change the code being run."""
+        self.flush(ind)
+        self.blk.index_atom = None               # Python code may move the loop frame
+        self.clock_out(ind)
+        self.emit(call, ind)
+        self.stale_check(ins.next, ind)
+        self.clock_in(ind)
 
     def truth(self, f):
         """A Python expression true when flag atom f is not 0. When f is a
@@ -384,21 +318,10 @@ class BlockGen:
     def slow_entry(self, ins):
         """(cost, fn, args, at, after) for the slow path (compiler.slow):
         after, where to go on if the primitive may change code, else None."""
-        p, op = ins.prim, ins.op
-        after = ins.next if may_store(ins) else None
-        if op == "enter":
-            return (ins.cost, rt_enter, ins.args, ins.addr, after)
-        if op == "exit":
-            return (ins.cost, rt_exit, (), ins.addr, after)
-        if op == "literal":
-            return (ins.cost, p.fn, ins.args, ins.addr, after)
-        if op == "var":
-            return (ins.cost, rt_push, ins.args, ins.addr, after)
-        if op in ("con", "const"):
-            return (ins.cost, rt_con, ins.args, ins.addr, after)
-        if op == "2con":
-            return (ins.cost, rt_2con, ins.args, ins.addr, after)
-        return (ins.cost, p.fn, (), ins.addr, after)
+        kind = ins.kind
+        after = ins.next if kind.may_store(ins) else None
+        fn, args = kind.slow(ins)
+        return (ins.cost, fn, args, ins.addr, after)
 
     # ------------------------------------------------------ the clock mid-block
     def clock_out(self, ind):

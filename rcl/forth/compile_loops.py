@@ -66,8 +66,8 @@ is one `while` too, its blocks in the shape of the source:
     : ODDS  0 10 0 DO  I 1 AND IF  I +  THEN  LOOP ;
 
     _lim = rs[-2]; _i = rs[-1]
-    if len(s) < 1:                            # too short: the reference loop runs it
-        m.clock = clk; clk = -1; return m.run_from(6649, d0)
+    if len(s) < 1:                            # too short: the reference loop runs it,
+        ...                                   # m.run_from(the loop's first cell, d0)
     _k0 = s.pop()                             # the cells the body works on
     _I = (_i + _lim) & 0xFFFF                 # I, once an iteration
     _d = 1
@@ -122,7 +122,7 @@ a shape (jumps that cross), the blocks are gone through with guards
 """
 from rcl.forth.compile_block import BlockState, I_LOCAL, LOAD_FRAME, LOAD_INDEX, STORE_INDEX
 from rcl.forth.control import DROP_FRAME, goes_on
-from rcl.forth.decode import NO_TERMINATOR, literal_template
+from rcl.forth.decode import NO_TERMINATOR
 from rcl.forth.loop_shape import find_regions, loop_op, shape
 
 
@@ -169,13 +169,12 @@ class LoopGen:
         a store template may be there: dpl_overwritten watches its address."""
         values = set()
         for i in ops:
-            p = i.prim
-            if i.op == "literal" and p.extra.get("lit") is not None:
-                dpl = p.extra["lit"](i.args)[1]
-                if dpl is not None:
-                    values.add(dpl)
+            p, num = i.prim, i.kind.number(i)
+            if num is not None:
+                if num[1] is not None:
+                    values.add(num[1])
                 continue
-            tpl = literal_template(i) or (p.template if i.op == "simple" else None)
+            tpl = i.kind.template(i)
             if tpl is None:
                 continue                 # var, con, const, 2con, enter, exit
             writes = tpl.stmt is not None and tpl.stmt.uses & {"mem", "m", "W"}

@@ -113,8 +113,7 @@ from rcl.forth.compile_block import (WIDE_DPL, BlockGen, BlockState,  # noqa: F4
                                      forth_of)                          # core.py)
 from rcl.forth.compile_loops import LoopGen, LoopState
 from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
-from rcl.forth.decode import (NO_TERMINATOR, TERMINATORS, TooLarge, call_depth, decode,  # noqa: F401
-                               walk)
+from rcl.forth.decode import NO_TERMINATOR, TooLarge, call_depth, decode, walk  # noqa: F401
 from rcl.forth.inner import (COMPILED, CONTROL, N, RSTACK_CELLS,  # (decode: for SEE)
                              decode_args)
 
@@ -309,37 +308,9 @@ class Gen(BlockGen, LoopGen):
 
     def terminator(self, ins, k, ind):
         """The code that ends block k: a control operation (control.py) or
-        a call."""
+        a call, as its kind writes it (compile_kinds.py)."""
         self.forget_rs(ind)
-        op = CONTROL_OPS.get(ins.op)
-        if op is not None:
-            op.gen(self, ins, k, ind)
-            return
-        self.flush(ind)
-        kind = ins.op
-        if kind is None:                  # block ends where another begins
-            self.goto_next(k, self.next_addr, ind)
-        elif kind in ("colon", "does"):
-            code = ins.args[0]                 # the body, or the code after DOES>
-            if kind == "does":
-                self.emit("s.append(%d)" % ((ins.xt + 2) & MASK), ind, "s")
-            self.enter_call(str(code), ins.next, ind)
-            self.call_tail(ins, k, ind)
-        elif kind == "defer":
-            body = ins.args[0]
-            self.emit("_x = mem[%d] | (mem[%d] << 8)" % (body, (body + 1) & MASK), ind, "mem")
-            self.dynamic_call("_x", ins.next, ind, self.m.memory.fetch(body))
-            self.call_tail(ins, k, ind)
-        elif kind == "bad" or ins.prim.kind == "runtime":
-            self.clock_out(ind)
-            self.emit("r = m.call(%d, %d)" % (ins.xt, ins.next), ind)
-            self.call_tail(ins, k, ind)
-        else:                             # a primitive that may run Forth or move the clock
-            self.clock_out(ind)
-            self.emit("%s(m)" % self.const(ins.prim.fn, "P"), ind)
-            self.stale_check(ins.next, ind)
-            self.clock_in(ind)
-            self.goto_next(k, ins.next, ind)
+        ins.kind.end(self, ins, k, ind)
 
     def dynamic_call(self, x, ret, ind, guess=None):
         """Call the xt in x: straight into a colon word's compiled code when
@@ -385,16 +356,15 @@ class Gen(BlockGen, LoopGen):
         term = term or NO_TERMINATOR
         # What goes through m.call(xt) (a bad xt, a vocabulary) is costed there;
         # everything else, DEFER included, costs its own cell here.
-        through_call = term.op == "bad" or (term.op == "call" and term.prim.kind == "runtime")
-        tcost = 0 if term.op is None or through_call else term.cost
+        tcost = term.cost if term.kind.costed else 0
         # EXECUTE and DEFER call at the boundary after their own cell, the
         # callee's (DOCOL): the fast path checks that one too, at the start
         # (the deadline moves only in Python code, which ends a block).
-        docol = term.op in ("EXECUTE", "defer")
+        docol = term.kind.checks_docol
         ahead = tcost if docol else 0
         self.emit("if clk + %d >= m.deadline%s:" % (pre + ahead, self.depth_check(ops)), ind)
         self.clock_out(ind + 1)
-        self.slow_path(ops, None if term.op is None or through_call else term, tcost, ind + 1)
+        self.slow_path(ops, term if term.kind.costed else None, tcost, ind + 1)
         self.clock_in(ind + 1)
         self.blk = BlockState()
         self.terminator(term, k, ind + 1)
@@ -463,10 +433,10 @@ class Gen(BlockGen, LoopGen):
             while True:
                 ins = code[ip]
                 words.append(forth_of(self.m, ins))
-                if ins.op in TERMINATORS:
+                if ins.kind.ends_block:
                     term = ins
                     break
-                ops.extend(ins.args[1] if ins.op == "inline" else (ins,))
+                ops.extend(ins.kind.parts(ins))
                 ip = ins.next
                 if ip in self.index or ip not in code:
                     break
@@ -504,12 +474,11 @@ class Gen(BlockGen, LoopGen):
             "    finally:", "        if clk >= 0: m.clock = clk"]
         marks = set(self.extra_marks)
         for ins in code.values():
-            for i in (ins.args[1] if ins.op == "inline" else ()) + (ins,):
+            for i in {ins, *ins.kind.parts(ins)}:       # (an inlined call: its callee's too)
                 span = (i.next - i.addr) & MASK or 2      # (code may wrap round
                 marks.update((i.addr + j) & MASK for j in range(span))   # memory's end)
                 marks.update((i.xt, (i.xt + 1) & MASK))
-                if i.op == "const":
-                    marks.update((i.args[0], (i.args[0] + 1) & MASK))
+                marks.update(i.kind.watched(i))
         return "\n".join(self.lines), marks
 
 

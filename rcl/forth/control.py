@@ -86,6 +86,8 @@ class ControlOp:
     target: bool = False     # an inline target cell follows the xt
     falls_through: bool = True   # may go on at the next cell
     leaves: bool = False     # may leave the definition (pops the return stack)
+    takes: int = 0           # cells it pops from the data stack
+    calls: bool = False      # calls a word at the boundary after its own cell (its (DOCOL))
 
 
 # ------------------------------------------------------------------ EXIT
@@ -247,20 +249,22 @@ OPS = [
     ControlOp("BRANCH", "( -- ) jump to the inline address", run_branch, gen_branch,
               target=True, falls_through=False),
     ControlOp("?BRANCH", "( f -- ) jump to the inline address if f is zero",
-              run_qbranch, gen_qbranch, target=True),
+              run_qbranch, gen_qbranch, target=True, takes=1),
     ControlOp("(DO)", "( limit start -- ) R: ( -- leave limit' index' )", run_do, gen_do,
-              target=True),
+              target=True, takes=2),
     ControlOp("(?DO)", "( limit start -- ) as (DO), but skip the loop if limit = start",
-              run_qdo, gen_qdo, target=True),
+              run_qdo, gen_qdo, target=True, takes=2),
     ControlOp("(LOOP)", "( -- ) add 1 to the index; loop back unless it crossed",
               run_loop, gen_loop, target=True),
     ControlOp("(+LOOP)", "( n -- ) add n to the index; loop back unless it crossed",
-              run_plus_loop, gen_plus_loop, target=True),
+              run_plus_loop, gen_plus_loop, target=True, takes=1),
     ControlOp("(LEAVE)", "( -- ) leave the loop now", run_leave, gen_leave,
               falls_through=False),
-    ControlOp("(?LEAVE)", "( f -- ) leave the loop if f is non-zero", run_qleave, gen_qleave),
+    ControlOp("(?LEAVE)", "( f -- ) leave the loop if f is non-zero", run_qleave, gen_qleave,
+              takes=1),
     ControlOp("(DOES>)", "( -- ) make the last word run the code after DOES>",
               run_does, gen_does, falls_through=False, leaves=True),
-    ControlOp("EXECUTE", "( xt -- ) run the word xt", run_execute, gen_execute, leaves=True),
+    ControlOp("EXECUTE", "( xt -- ) run the word xt", run_execute, gen_execute, leaves=True,
+              takes=1, calls=True),
 ]
 BY_NAME = {op.name: op for op in OPS}

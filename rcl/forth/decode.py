@@ -12,13 +12,12 @@ holding the callee's instructions between an "enter" and an "exit", which
 cost what the call and the EXIT cost and, run one at a time by the exact
 slow path, push and pop the return address as the real call does.
 
-Also here: what an instruction does to the return stack (`keeps_rs`,
-`call_depth`: for a locals frame kept in Python names, and for the overflow
-check of inlined calls), and the slow path's functions of instructions
-that have no primitive function of their own (rt_*).
+What the compiler does with each kind of instruction is its kind's
+(compile_kinds.py). Also here: how deep the inlined calls of a block take
+the return stack (`call_depth`, for their overflow check).
 """
-from rcl.forth.control import BY_NAME as CONTROL_OPS
-from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, decode_args
+from rcl.forth import compile_kinds as kinds
+from rcl.forth.inner import CONTROL, N, decode_args
 from rcl.forth.memory import DICT_LIMIT, DICT_START, MASK, PRIM_LIMIT
 from rcl.forth.primitives import DEFAULT_COST, REGISTRY
 
@@ -38,22 +37,27 @@ INLINE_DEPTH = 3             # calls nested inside inlined calls
 
 
 class Instr:
-    """One decoded cell of threaded code."""
-    __slots__ = ("addr", "xt", "op", "args", "next", "target", "cost", "prim")
+    """One decoded cell of threaded code; `kind` says what the compiler
+    does with it (compile_kinds.py), `op` is the kind's name."""
+    __slots__ = ("addr", "xt", "kind", "args", "next", "target", "cost", "prim")
 
-    def __init__(self, addr, xt, op, args, nxt, cost, prim=None, target=None):
-        self.addr, self.xt, self.op, self.args = addr, xt, op, args
+    def __init__(self, addr, xt, kind, args, nxt, cost, prim=None, target=None):
+        self.addr, self.xt, self.kind, self.args = addr, xt, kind, args
         self.next, self.cost, self.prim, self.target = nxt, cost, prim, target
 
+    @property
+    def op(self):
+        return self.kind.name
 
-NO_TERMINATOR = Instr(0, 0, None, (), 0, 0)   # a block that just runs into the next
 
-TERMINATORS = set(CONTROL_OPS) | {"colon", "does", "defer", "call", "bad"}
-NO_FALLTHROUGH = {op.name for op in CONTROL_OPS.values() if not op.falls_through}
+NO_TERMINATOR = Instr(0, 0, kinds.FALL, (), 0, 0)   # a block that just runs into the next
+
 # A CONSTANT's value is compiled in (its cell watched); a VALUE's is read.
-RUNTIME_KINDS = {N["(DOCOL)"]: "colon", N["(DOVAR)"]: "var", N["(DOCON)"]: "const",
-                 N["(DOVALUE)"]: "con", N["(DO2CON)"]: "2con",
-                 N["(DO2VALUE)"]: "2con", N["(DODEFER)"]: "defer"}
+RUNTIME_KINDS = {N["(DOCOL)"]: kinds.COLON, N["(DOVAR)"]: kinds.VAR, N["(DOCON)"]: kinds.CONST,
+                 N["(DOVALUE)"]: kinds.CON, N["(DO2CON)"]: kinds.TWO_CON,
+                 N["(DO2VALUE)"]: kinds.TWO_CON, N["(DODEFER)"]: kinds.DEFER}
+# A primitive's declared kind (primitives.py) -> its cell's, but for runtimes
+PRIM_KINDS = {"simple": kinds.SIMPLE, "call": kinds.CALL}
 
 
 def decode(m, ip):
@@ -63,10 +67,10 @@ def decode(m, ip):
     nxt = (ip + 2) & MASK
     cf = fetch(xt)
     if cf >= PRIM_LIMIT:
-        return Instr(ip, xt, "does", (cf,), nxt, m.cost[N["(DOCOL)"]])
+        return Instr(ip, xt, kinds.DOES, (cf,), nxt, m.cost[N["(DOCOL)"]])
     p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
     if p is None:
-        return Instr(ip, xt, "bad", (), nxt, DEFAULT_COST)
+        return Instr(ip, xt, kinds.BAD, (), nxt, DEFAULT_COST)
     cost = m.cost[cf]
     op = CONTROL.get(cf)
     if op is not None:
@@ -74,14 +78,14 @@ def decode(m, ip):
         if op.target:
             target = fetch(nxt)
             nxt = (nxt + 2) & MASK
-        return Instr(ip, xt, op.name, (), nxt, cost, p, target)
+        return Instr(ip, xt, kinds.CONTROL[op.name], (), nxt, cost, p, target)
     if p.kind == "literal":
         args, nxt = decode_args(m, p, nxt)
-        return Instr(ip, xt, "literal", args, nxt, cost, p)
+        return Instr(ip, xt, kinds.LITERAL, args, nxt, cost, p)
     if p.kind == "runtime":
         body = (xt + 2) & MASK
-        return Instr(ip, xt, RUNTIME_KINDS.get(cf, "call"), (body,), nxt, cost, p)
-    return Instr(ip, xt, "call" if p.kind == "call" else "simple", (), nxt, cost, p)
+        return Instr(ip, xt, RUNTIME_KINDS.get(cf, kinds.RUNTIME_CALL), (body,), nxt, cost, p)
+    return Instr(ip, xt, PRIM_KINDS[p.kind], (), nxt, cost, p)
 
 
 def walk(m, entry):
@@ -94,15 +98,15 @@ def walk(m, entry):
             if len(code) >= WALK_LIMIT:
                 raise TooLarge("code at %d is larger than any definition" % entry)
             ins = decode(m, ip)
-            if ins.op == "colon":
+            if ins.kind is kinds.COLON:
                 inline(m, ins)
             code[ip] = ins
             if ins.target is not None:
                 targets.add(ins.target)
                 todo.append(ins.target)
-            if ins.op in TERMINATORS:
+            if ins.kind.ends_block:
                 targets.add(ins.next)
-            if ins.op in NO_FALLTHROUGH:
+            if not ins.kind.falls_through:
                 break
             ip = ins.next
     return code, targets
@@ -114,8 +118,8 @@ def inline(m, ins, depth=1):
     body = callee(m, ins.args[0], depth)
     if body is None:
         return False
-    enter = Instr(ins.addr, ins.xt, "enter", (ins.next,), ins.next, ins.cost)
-    ins.op, ins.args = "inline", (ins.args[0], (enter,) + tuple(body))
+    enter = Instr(ins.addr, ins.xt, kinds.INLINE_ENTER, (ins.next,), ins.next, ins.cost)
+    ins.kind, ins.args = kinds.INLINE, (ins.args[0], (enter,) + tuple(body))
     return True
 
 
@@ -126,61 +130,16 @@ def callee(m, addr, depth):
     while len(out) < INLINE_LIMIT:
         ins = decode(m, ip)
         if ins.op == "EXIT":
-            out.append(Instr(ins.addr, ins.xt, "exit", (), ins.next, ins.cost))
+            out.append(Instr(ins.addr, ins.xt, kinds.INLINE_EXIT, (), ins.next, ins.cost))
             return out
-        if ins.op == "colon" and depth < INLINE_DEPTH and inline(m, ins, depth + 1):
+        if ins.kind is kinds.COLON and depth < INLINE_DEPTH and inline(m, ins, depth + 1):
             out.extend(ins.args[1])
-        elif not plain(ins):
+        elif not ins.kind.plain(ins):
             return None
         else:
             out.append(ins)
         ip = ins.next
     return None
-
-
-def plain(ins):
-    """Does ins only compute on the data stack and memory?"""
-    if ins.op in ("var", "con", "const", "2con"):
-        return True
-    if ins.op == "literal":          # (not a locals frame's: never pasted elsewhere)
-        return ins.prim.extra.get("lit") is not None
-    t = ins.prim.template if ins.op == "simple" else None
-    return t is not None and "rs" not in t.uses
-
-
-def literal_template(ins):
-    """The Template a literal-kind primitive makes from its inline cells
-    (extra["inline_args"]: the Locals word set's rs[-k]), or None."""
-    if ins.op != "literal" or "lit" in ins.prim.extra:
-        return None
-    make = ins.prim.extra.get("inline_args")
-    return make(ins.args) if make is not None else None
-
-
-def keeps_rs(ins, tpl=None):
-    """Does the compiled form of ins surely leave the return stack alone
-    (so that a locals frame kept in Python names need not be pushed)?"""
-    if ins.op in ("var", "const", "con", "2con", "enter", "exit"):
-        return True          # (an inlined call's fast path does not touch rs)
-    if ins.op == "literal" and "lit" in ins.prim.extra:
-        return True
-    tpl = tpl or (ins.prim.template if ins.op == "simple" else None)
-    return tpl is not None and "rs" not in tpl.uses
-
-
-def rs_growth(ins):
-    """Cells the compiled ins may push on the return stack, pops not counted
-    (an inlined call: its return address; a locals frame: its cells, pushed
-    or kept in Python names); None for Python code, which may do anything."""
-    if ins.op in ("enter", "exit"):
-        return 1 if ins.op == "enter" else -1
-    if ins.op in ("var", "const", "con", "2con"):
-        return 0
-    extra = ins.prim.extra
-    if ins.op == "literal" and ("lit" in extra or "rs_cells" in extra):
-        return extra["rs_cells"](ins.args) if "rs_cells" in extra else 0
-    tpl = literal_template(ins) or (ins.prim.template if ins.op == "simple" else None)
-    return tpl.rs_push if tpl is not None else None
 
 
 def call_depth(ops):
@@ -190,30 +149,10 @@ def call_depth(ops):
     checked where they are, Gen.call_check); None if none is."""
     depth, deepest = 0, None
     for i in ops:
-        grow = rs_growth(i)
+        grow = i.kind.rs_growth(i)
         if grow is None:
             break
         depth += grow
-        if i.op == "enter":
+        if i.kind is kinds.INLINE_ENTER:
             deepest = depth if deepest is None else max(deepest, depth)
     return deepest
-
-
-def rt_enter(m, ret):
-    """An inlined call, one primitive at a time: what Inner.enter does."""
-    rs = m.rs
-    rs.append(ret)
-    if len(rs) > RSTACK_CELLS:
-        m.rs_overflow()
-
-
-def rt_exit(m):
-    m.rs.pop()
-
-
-def rt_con(m, a):
-    m.s.append(m.memory.fetch(a))
-
-
-def rt_2con(m, a):
-    m.s.extend(m.memory.dfetch(a))

@@ -39,7 +39,7 @@ import math
 import os
 
 from rcl.errors import Bye, ForthError, Terminated, as_forth_error
-from rcl.forth import control, state, wordloc
+from rcl.forth import control, primitives, state, wordloc
 from rcl.forth.memory import MASK, PRIM_LIMIT
 from rcl.forth.primitives import REGISTRY, prim
 
@@ -494,7 +494,7 @@ def word_code(code):
             or name in (__file__, control.__file__))
 
 
-COMPILED = "<forth>"         # the file name compiled code is given
+COMPILED = primitives.COMPILED   # the file name compiled code (and a body made from a template) is given
 
 
 def decode_args(m, p, ip):

@@ -32,39 +32,21 @@ For example `DO  IF A ELSE B THEN  BEGIN C WHILE D REPEAT  LOOP`:
      ("loop", [("block", 3), ("unless", "break"), ("block", 4), ("stmt", "continue")])]
 """
 
-LOOP_RS_WORDS = ("I", "J")       # the only templates naming rs a loop body may use
 CARRY_LIMIT = 8                  # stack cells a loop of several blocks keeps in locals
 INSIDE = ("?BRANCH", "BRANCH")   # the control operations allowed inside such a loop
 
 
 def stack_effect(ins):
     """(cells taken, cells left) on the data stack by an instruction a loop
-    body may hold (loop_op), or by a terminator."""
-    if ins is None or ins.op in (None, "BRANCH", "(LOOP)", "enter", "exit"):
-        return 0, 0
-    if ins.op in ("?BRANCH", "(+LOOP)"):
-        return 1, 0
-    if ins.op in ("var", "con", "const"):
-        return 0, 1
-    if ins.op == "2con":
-        return 0, 2
-    if ins.op == "literal":
-        return 0, len(ins.prim.extra["lit"](ins.args)[0])
-    tpl = ins.prim.template
-    return len(tpl.inputs), len(tpl.outputs)
+    body may hold (loop_op), or by a terminator (None: none)."""
+    return (0, 0) if ins is None else ins.kind.stack_effect(ins)
 
 
 def loop_op(i):
     """May instruction i be in a loop body run as a Python while? Only what
-    is known not to look at the loop frame, the clock or the real stack."""
-    p = i.prim
-    if i.op in ("var", "con", "const", "2con", "enter", "exit"):
-        return True
-    if i.op == "literal":
-        return p.extra.get("lit") is not None
-    if i.op != "simple" or p.template is None:
-        return False
-    return "rs" not in p.template.uses or p.name in LOOP_RS_WORDS
+    is known not to look at the loop frame, the clock or the real stack
+    (its kind says: compile_kinds.py)."""
+    return i.kind.loop_op(i)
 
 
 class Region:
@@ -140,7 +122,7 @@ def region(blocks, index, first, last):
     if len(after) != last - first + 1 or -low > CARRY_LIMIT:
         return None
     heads = {first} | {j for k in succ for j in succ[k] if j <= k}
-    uses_i = any(i.op == "simple" and i.prim.name == "I"
+    uses_i = any(i.prim is not None and i.prim.name == "I"
                  for k in range(first, last + 1) for i in blocks[k][1])
     return Region(first, last, {k: d - low for k, d in depth.items()},
                   {k: d - low for k, d in after.items()},

@@ -1,11 +1,22 @@
 """The registry of primitives: every CODE word is declared once, here-shaped.
 
-    @prim("+", "( n1 n2 -- n3 )", inline=("a b", "(a + b) & 0xFFFF"))
-    def plus(m):
-        s = m.s; b = s.pop(); s[-1] = (s[-1] + b) & 0xFFFF
+    @prim("NIP", "( a b -- b )")
+    def nip(m):
+        del m.s[-2]
+
+    prim("+", "( n1 n2 -- n3 )", inline=("a b", "(a + b) & 0xFFFF"))(None)
 
 One declaration gives the dictionary its header, the inner interpreter its
 function and cost, the compiler its inline template, SEE and WORDS the name.
+A primitive the compiler may paste has one body, its inline template: the
+function the interpreter calls is made from it at registration (`body_of`),
+so what runs one primitive at a time and what runs compiled cannot differ:
+
+    def f(m):                   # +, as made from its template
+        s = m.s
+        b = s.pop()
+        a = s[-1]
+        s[-1] = (a + b) & 0xFFFF
 
 A primitive's number is its index in REGISTRY; that number is what its code
 field holds in memory (so numbers stay below memory.PRIM_LIMIT).
@@ -18,6 +29,8 @@ Kinds:
   call     fn(m) may run Forth code, change the clock or the interrupt
            deadline: the compiler ends a block after it.
   runtime  what a code field of a defined word does (DOCOL, DOVAR, ...).
+The compiler's kinds of instruction (compile_kinds.py) are made from these
+once, where decode.py decodes a cell.
 
 Inline templates: (inputs, outputs[, statement]). Inputs name the popped
 cells, deepest first; outputs are Python expressions over them, pushed in
@@ -28,6 +41,8 @@ here, and an unknown name is refused at registration. The compiler fills in
 a parsed template by formatting (`Template`), never by editing text.
 """
 import ast
+import sys
+import types
 from dataclasses import dataclass, field
 
 from rcl.board import CLOCK_HZ  # noqa: F401  (the unit lives with the board interface)
@@ -36,6 +51,9 @@ HELPERS = {}                 # functions inline templates may call, by name
 LOCALS = ("m", "s", "rs", "mem", "W")   # what compiled code binds, templates may use
 BUILTINS = ("abs", "min", "max", "len")
 DEFAULT_COST = 1_000_000     # clock units (1/36 ns): 1000/36 us per primitive
+# The file name of Python made for Forth (compiled code, bodies made from
+# templates): an IndexError raised there is a stack underflow (inner.py).
+COMPILED = "<forth>"
 
 
 @dataclass
@@ -136,6 +154,41 @@ def rs_pushes(word, stmt):
     return n
 
 
+def body_of(name, tpl):
+    """The Python function of a primitive, made from its parsed template as
+    the compiler pastes it: inputs popped (top first), the statement, the
+    outputs pushed. When nothing else looks at the data stack, the deepest
+    input is read in place and the first output stored over it (a pop and
+    a push cost twice a store)."""
+    ins = tpl.inputs
+    outs = [o.fill(ins) for o in tpl.outputs]
+    peek = bool(ins and outs) and tpl.stmt is None and "s" not in tpl.uses
+    lines = ["%s = s.pop()" % x for x in reversed(ins[1 if peek else 0:])]
+    if peek:
+        lines.append("%s = s[-1]" % ins[0])
+    if tpl.stmt is not None:
+        lines.extend(tpl.stmt.fill(ins).split("\n"))
+    if peek:
+        first = outs.pop(0)
+        if first != ins[0]:
+            lines.append("s[-1] = %s" % first)
+    if len(outs) == 1:
+        lines.append("s.append(%s)" % outs[0])
+    elif outs:
+        lines.append("s.extend((%s))" % ", ".join(outs))
+    binds = [("s", "m.s"), ("rs", "m.rs"), ("mem", "m.mem"), ("W", "m.watch")]
+    uses = tpl.uses | ({"s"} if ins or outs else set())
+    text = "\n".join(["def f(m):"] + ["    %s = %s" % b for b in binds if b[0] in uses]
+                     + ["    " + line for line in lines or ["pass"]])
+    env = types.ModuleType(COMPILED).__dict__      # (for PyPy's JIT, as compiled code's)
+    env.update(HELPERS)
+    exec(compile(text, COMPILED, "exec"), env)
+    f = env["f"]
+    f.__name__ = f.__qualname__ = name
+    f.source = text
+    return f
+
+
 REGISTRY = [None]            # number 0 is never a valid code field
 BY_NAME = {}
 
@@ -146,14 +199,22 @@ def prim(name, effect="", *, kind="simple", cost=DEFAULT_COST, immediate=False,
     """Register the decorated function as the primitive `name`.
 
     `key` names the registry entry when the Forth name is shared (a runtime
-    such as DOCOL has no Forth name of its own).
+    such as DOCOL has no Forth name of its own). With an inline template
+    the primitive has no Python body of its own: register None, and the
+    body is made from the template.
     """
     def register(fn):
+        template = Template(name, inline) if inline is not None else None
+        if template is not None:
+            if fn is not None:
+                raise ValueError("%s: its body is made from its inline template" % name)
+            fn = body_of(name, template)
+            # its word set is the module that declared it (as namedtuple finds its module)
+            fn.__module__ = sys._getframe(1).f_globals.get("__name__", fn.__module__)
         p = Prim(name, effect, fn, kind, cost, immediate, inline, args, decode,
                  hidden, wordlist, len(REGISTRY), (fn.__doc__ or "").strip() if fn else "",
                  memory)
-        if inline is not None:
-            p.template = Template(name, inline)
+        p.template = template
         REGISTRY.append(p)
         BY_NAME[key or name] = p
         return fn

@@ -362,10 +362,8 @@ def bracket_tick(m):
 prim("[']", "( -- ) compile the xt of the next word as a literal", immediate=True)(compile_only("[']", bracket_tick))
 
 
-@prim(">BODY", "( xt -- addr ) the data field of a CREATEd word",
-      inline=("a", ("(a + 2) & 0xFFFF",)))
-def to_body(m):
-    m.s[-1] = (m.s[-1] + 2) & MASK
+prim(">BODY", "( xt -- addr ) the data field of a CREATEd word",
+     inline=("a", ("(a + 2) & 0xFFFF",)))(None)
 
 
 def char_of(m):

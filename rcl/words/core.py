@@ -2,8 +2,10 @@
 dictionary space are in memory_access.py).
 
 Each is a CODE word: a few lines of Python on the data stack `m.s` (cells
-kept unsigned, 0..65535) and an inline template the compiler pastes into
-compiled code (see rcl/forth/primitives.py for the template form).
+kept unsigned, 0..65535), or an inline template the compiler pastes into
+compiled code and the interpreter's function is made from
+(`prim(..., inline=...)(None)`: no Python body; see rcl/forth/primitives.py
+for the template form).
 """
 from rcl.forth.memory import MASK, signed
 from rcl.forth.compiler import HELPERS, WIDE_DPL
@@ -69,45 +71,14 @@ BY_NAME["(RDLIT)"].extra["lit"] = lambda a: ((a[0], a[1]), signed(a[2]))
 
 
 # --------------------------------------------------------------------- stack
-@prim("DUP", "( x -- x x )", inline=("a", ("a", "a")))
-def dup(m):
-    m.s.append(m.s[-1])
-
-
-@prim("DROP", "( x -- )", inline=("a", ()))
-def drop(m):
-    m.s.pop()
-
-
-@prim("SWAP", "( a b -- b a )", inline=("a b", ("b", "a")))
-def swap(m):
-    s = m.s
-    s[-1], s[-2] = s[-2], s[-1]
-
-
-@prim("OVER", "( a b -- a b a )", inline=("a b", ("a", "b", "a")))
-def over(m):
-    m.s.append(m.s[-2])
-
-
-@prim("ROT", "( a b c -- b c a )", inline=("a b c", ("b", "c", "a")))
-def rot(m):
-    m.s.append(m.s.pop(-3))
-
-
-@prim("-ROT", "( a b c -- c a b )", inline=("a b c", ("c", "a", "b")))
-def mrot(m):
-    m.s.insert(-2, m.s.pop())
-
-
-@prim("NIP", "( a b -- b )", inline=("a b", ("b",)))
-def nip(m):
-    del m.s[-2]
-
-
-@prim("TUCK", "( a b -- b a b )", inline=("a b", ("b", "a", "b")))
-def tuck(m):
-    m.s.insert(-2, m.s[-1])
+prim("DUP", "( x -- x x )", inline=("a", ("a", "a")))(None)
+prim("DROP", "( x -- )", inline=("a", ()))(None)
+prim("SWAP", "( a b -- b a )", inline=("a b", ("b", "a")))(None)
+prim("OVER", "( a b -- a b a )", inline=("a b", ("a", "b", "a")))(None)
+prim("ROT", "( a b c -- b c a )", inline=("a b c", ("b", "c", "a")))(None)
+prim("-ROT", "( a b c -- c a b )", inline=("a b c", ("c", "a", "b")))(None)
+prim("NIP", "( a b -- b )", inline=("a b", ("b",)))(None)
+prim("TUCK", "( a b -- b a b )", inline=("a b", ("b", "a", "b")))(None)
 
 
 @prim("?DUP", "( x -- 0 | x x )")
@@ -140,34 +111,11 @@ def depth(m):
     m.s.append(len(m.s) & MASK)
 
 
-@prim("2DUP", "( a b -- a b a b )", inline=("a b", ("a", "b", "a", "b")))
-def two_dup(m):
-    if len(m.s) < 2:
-        raise IndexError
-    m.s.extend(m.s[-2:])
-
-
-@prim("2DROP", "( a b -- )", inline=("a b", ()))
-def two_drop(m):
-    m.s.pop()
-    m.s.pop()
-
-
-@prim("2SWAP", "( a b c d -- c d a b )", inline=("a b c d", ("c", "d", "a", "b")))
-def two_swap(m):
-    s = m.s
-    if len(s) < 4:
-        raise IndexError
-    s[-4:] = s[-2:] + s[-4:-2]
-
-
-@prim("2OVER", "( a b c d -- a b c d a b )",
-      inline=("a b c d", ("a", "b", "c", "d", "a", "b")))
-def two_over(m):
-    s = m.s
-    if len(s) < 4:
-        raise IndexError
-    s.extend(s[-4:-2])
+prim("2DUP", "( a b -- a b a b )", inline=("a b", ("a", "b", "a", "b")))(None)
+prim("2DROP", "( a b -- )", inline=("a b", ()))(None)
+prim("2SWAP", "( a b c d -- c d a b )", inline=("a b c d", ("c", "d", "a", "b")))(None)
+prim("2OVER", "( a b c d -- a b c d a b )",
+     inline=("a b c d", ("a", "b", "c", "d", "a", "b")))(None)
 
 
 @prim("2ROT", "( a b c d e f -- c d e f a b )")
@@ -193,25 +141,10 @@ def four_dup(m):
 
 
 # -------------------------------------------------------------- return stack
-@prim(">R", "( x -- ) R: ( -- x )", inline=("a", (), "rs.append(a)"))
-def to_r(m):
-    m.rs.append(m.s.pop())
-
-
-@prim("R>", "( -- x ) R: ( x -- )", inline=("", ("rs.pop()",)))
-def r_from(m):
-    m.s.append(m.rs.pop())
-
-
-@prim("R@", "( -- x ) R: ( x -- x )", inline=("", ("rs[-1]",)))
-def r_fetch(m):
-    m.s.append(m.rs[-1])
-
-
-@prim("2>R", "( a b -- ) R: ( -- a b )", inline=("a b", (), "rs.append(a); rs.append(b)"))
-def two_to_r(m):
-    b, a = m.s.pop(), m.s.pop()
-    m.rs.extend((a, b))
+prim(">R", "( x -- ) R: ( -- x )", inline=("a", (), "rs.append(a)"))(None)
+prim("R>", "( -- x ) R: ( x -- )", inline=("", ("rs.pop()",)))(None)
+prim("R@", "( -- x ) R: ( x -- x )", inline=("", ("rs[-1]",)))(None)
+prim("2>R", "( a b -- ) R: ( -- a b )", inline=("a b", (), "rs.append(a); rs.append(b)"))(None)
 
 
 @prim("2R>", "( -- a b ) R: ( a b -- )")
@@ -227,120 +160,66 @@ def two_r_fetch(m):
     m.s.extend(m.rs[-2:])
 
 
-@prim("I", "( -- n ) the innermost loop index",
-      inline=("", (index_of(frame_cell(INDEX), frame_cell(LIMIT)),)))
-def i_index(m):
-    m.s.append((m.rs[INDEX] + m.rs[LIMIT]) & MASK)
-
-
-@prim("J", "( -- n ) the next outer loop index",
-      inline=("", (index_of(frame_cell(INDEX, 1), frame_cell(LIMIT, 1)),)))
-def j_index(m):
-    m.s.append((m.rs[INDEX - FRAME_CELLS] + m.rs[LIMIT - FRAME_CELLS]) & MASK)
-
-
-@prim("UNLOOP", "( -- ) R: ( loop-sys -- ) drop a DO frame before EXIT",
-      inline=("", (), DROP_FRAME))
-def unloop(m):
-    if len(m.rs) < FRAME_CELLS:
-        raise IndexError
-    del m.rs[-FRAME_CELLS:]
+prim("I", "( -- n ) the innermost loop index",
+     inline=("", (index_of(frame_cell(INDEX), frame_cell(LIMIT)),)))(None)
+prim("J", "( -- n ) the next outer loop index",
+     inline=("", (index_of(frame_cell(INDEX, 1), frame_cell(LIMIT, 1)),)))(None)
+prim("UNLOOP", "( -- ) R: ( loop-sys -- ) drop a DO frame before EXIT",
+     inline=("", (), DROP_FRAME))(None)
 
 
 # ----------------------------------------------------------------- arithmetic
-def binary(name, effect, expr, fn):
+def binary(name, effect, expr):
     """Declare a ( n1 n2 -- n3 ) word from one expression over a and b."""
-    prim(name, effect, inline=("a b", (expr,)))(fn)
+    prim(name, effect, inline=("a b", (expr,)))(None)
 
 
-def unary(name, effect, expr, fn):
-    prim(name, effect, inline=("a", (expr,)))(fn)
+def unary(name, effect, expr):
+    prim(name, effect, inline=("a", (expr,)))(None)
 
 
-def _bin(op):
-    def f(m):
-        s = m.s
-        b = s.pop()
-        s[-1] = op(s[-1], b) & MASK
-    return f
-
-
-def _un(op):
-    def f(m):
-        m.s[-1] = op(m.s[-1]) & MASK
-    return f
-
-
-def _flag(test):
-    def f(m):
-        s = m.s
-        b = s.pop()
-        s[-1] = MASK if test(s[-1], b) else 0
-    return f
-
-
-def _flag1(test):
-    def f(m):
-        m.s[-1] = MASK if test(m.s[-1]) else 0
-    return f
-
-
-binary("+", "( n1 n2 -- n3 )", "(a + b) & 0xFFFF", _bin(lambda a, b: a + b))
-binary("-", "( n1 n2 -- n3 )", "(a - b) & 0xFFFF", _bin(lambda a, b: a - b))
-binary("*", "( n1 n2 -- n3 ) low 16 bits of the product", "(a * b) & 0xFFFF",
-       _bin(lambda a, b: a * b))
-binary("AND", "( x1 x2 -- x3 )", "a & b", _bin(lambda a, b: a & b))
-binary("OR", "( x1 x2 -- x3 )", "a | b", _bin(lambda a, b: a | b))
-binary("XOR", "( x1 x2 -- x3 )", "a ^ b", _bin(lambda a, b: a ^ b))
-binary("LSHIFT", "( x u -- x' )", "(a << b) & 0xFFFF if b < 16 else 0",
-       _bin(lambda a, b: a << b if b < 16 else 0))
-binary("RSHIFT", "( x u -- x' ) logical", "a >> b", _bin(lambda a, b: a >> b))
-binary("MIN", "( n1 n2 -- n3 ) signed", "a if (a ^ 0x8000) < (b ^ 0x8000) else b",
-       _bin(lambda a, b: a if signed(a) < signed(b) else b))
-binary("MAX", "( n1 n2 -- n3 ) signed", "a if (a ^ 0x8000) > (b ^ 0x8000) else b",
-       _bin(lambda a, b: a if signed(a) > signed(b) else b))
-unary("NEGATE", "( n -- -n )", "-a & 0xFFFF", _un(lambda a: -a))
-unary("NOT", "( x -- x' ) bitwise (Forth-83): 5 NOT is -6", "a ^ 0xFFFF", _un(lambda a: ~a))
-unary("INVERT", "( x -- x' ) bitwise", "a ^ 0xFFFF", _un(lambda a: ~a))
-unary("ABS", "( n -- u )", "(-a & 0xFFFF) if a & 0x8000 else a",
-      _un(lambda a: -a if a & 0x8000 else a))
-unary("1+", "( n -- n+1 )", "(a + 1) & 0xFFFF", _un(lambda a: a + 1))
-unary("1-", "( n -- n-1 )", "(a - 1) & 0xFFFF", _un(lambda a: a - 1))
-unary("2+", "( n -- n+2 )", "(a + 2) & 0xFFFF", _un(lambda a: a + 2))
-unary("2-", "( n -- n-2 )", "(a - 2) & 0xFFFF", _un(lambda a: a - 2))
-unary("2*", "( n -- 2n )", "(a << 1) & 0xFFFF", _un(lambda a: a << 1))
-unary("2/", "( n -- n/2 ) arithmetic shift: floors", "(a >> 1) | (a & 0x8000)",
-      _un(lambda a: (a >> 1) | (a & 0x8000)))
-unary("U2/", "( u -- u/2 ) logical shift", "a >> 1", _un(lambda a: a >> 1))
-unary("CELLS", "( n -- 2n )", "(a << 1) & 0xFFFF", _un(lambda a: a << 1))
-unary("CELL+", "( a -- a+2 )", "(a + 2) & 0xFFFF", _un(lambda a: a + 2))
-unary("CHAR+", "( a -- a+1 )", "(a + 1) & 0xFFFF", _un(lambda a: a + 1))
-unary("CHARS", "( n -- n )", "a", _un(lambda a: a))
-unary("ALIGNED", "( a -- a ) no alignment on the 80188", "a", _un(lambda a: a))
+binary("+", "( n1 n2 -- n3 )", "(a + b) & 0xFFFF")
+binary("-", "( n1 n2 -- n3 )", "(a - b) & 0xFFFF")
+binary("*", "( n1 n2 -- n3 ) low 16 bits of the product", "(a * b) & 0xFFFF")
+binary("AND", "( x1 x2 -- x3 )", "a & b")
+binary("OR", "( x1 x2 -- x3 )", "a | b")
+binary("XOR", "( x1 x2 -- x3 )", "a ^ b")
+binary("LSHIFT", "( x u -- x' )", "(a << b) & 0xFFFF if b < 16 else 0")
+binary("RSHIFT", "( x u -- x' ) logical", "a >> b")
+binary("MIN", "( n1 n2 -- n3 ) signed", "a if (a ^ 0x8000) < (b ^ 0x8000) else b")
+binary("MAX", "( n1 n2 -- n3 ) signed", "a if (a ^ 0x8000) > (b ^ 0x8000) else b")
+unary("NEGATE", "( n -- -n )", "-a & 0xFFFF")
+unary("NOT", "( x -- x' ) bitwise (Forth-83): 5 NOT is -6", "a ^ 0xFFFF")
+unary("INVERT", "( x -- x' ) bitwise", "a ^ 0xFFFF")
+unary("ABS", "( n -- u )", "(-a & 0xFFFF) if a & 0x8000 else a")
+unary("1+", "( n -- n+1 )", "(a + 1) & 0xFFFF")
+unary("1-", "( n -- n-1 )", "(a - 1) & 0xFFFF")
+unary("2+", "( n -- n+2 )", "(a + 2) & 0xFFFF")
+unary("2-", "( n -- n-2 )", "(a - 2) & 0xFFFF")
+unary("2*", "( n -- 2n )", "(a << 1) & 0xFFFF")
+unary("2/", "( n -- n/2 ) arithmetic shift: floors", "(a >> 1) | (a & 0x8000)")
+unary("U2/", "( u -- u/2 ) logical shift", "a >> 1")
+unary("CELLS", "( n -- 2n )", "(a << 1) & 0xFFFF")
+unary("CELL+", "( a -- a+2 )", "(a + 2) & 0xFFFF")
+unary("CHAR+", "( a -- a+1 )", "(a + 1) & 0xFFFF")
+unary("CHARS", "( n -- n )", "a")
+unary("ALIGNED", "( a -- a ) no alignment on the 80188", "a")
 
 # ----------------------------------------------------------------- comparison
-binary("=", "( x1 x2 -- f )", T + " if a == b else 0", _flag(lambda a, b: a == b))
-binary("<>", "( x1 x2 -- f )", T + " if a != b else 0", _flag(lambda a, b: a != b))
-binary("<", "( n1 n2 -- f ) signed", T + " if (a ^ 0x8000) < (b ^ 0x8000) else 0",
-       _flag(lambda a, b: signed(a) < signed(b)))
-binary(">", "( n1 n2 -- f ) signed", T + " if (a ^ 0x8000) > (b ^ 0x8000) else 0",
-       _flag(lambda a, b: signed(a) > signed(b)))
-binary("U<", "( u1 u2 -- f )", T + " if a < b else 0", _flag(lambda a, b: a < b))
-binary("U>", "( u1 u2 -- f )", T + " if a > b else 0", _flag(lambda a, b: a > b))
-unary("0=", "( x -- f )", T + " if a == 0 else 0", _flag1(lambda a: a == 0))
-unary("0<>", "( x -- f )", T + " if a != 0 else 0", _flag1(lambda a: a != 0))
-unary("0<", "( n -- f )", T + " if a & 0x8000 else 0", _flag1(lambda a: a & 0x8000))
-unary("0>", "( n -- f )", T + " if 0 < a < 0x8000 else 0", _flag1(lambda a: 0 < a < 0x8000))
+binary("=", "( x1 x2 -- f )", T + " if a == b else 0")
+binary("<>", "( x1 x2 -- f )", T + " if a != b else 0")
+binary("<", "( n1 n2 -- f ) signed", T + " if (a ^ 0x8000) < (b ^ 0x8000) else 0")
+binary(">", "( n1 n2 -- f ) signed", T + " if (a ^ 0x8000) > (b ^ 0x8000) else 0")
+binary("U<", "( u1 u2 -- f )", T + " if a < b else 0")
+binary("U>", "( u1 u2 -- f )", T + " if a > b else 0")
+unary("0=", "( x -- f )", T + " if a == 0 else 0")
+unary("0<>", "( x -- f )", T + " if a != 0 else 0")
+unary("0<", "( n -- f )", T + " if a & 0x8000 else 0")
+unary("0>", "( n -- f )", T + " if 0 < a < 0x8000 else 0")
 
 
-@prim("TRUE", "( -- -1 )", inline=("", ("65535",)))
-def true(m):
-    m.s.append(MASK)
-
-
-@prim("FALSE", "( -- 0 )", inline=("", ("0",)))
-def false(m):
-    m.s.append(0)
+prim("TRUE", "( -- -1 )", inline=("", ("65535",)))(None)
+prim("FALSE", "( -- 0 )", inline=("", ("0",)))(None)
 
 
 @prim("BETWEEN", "( n lo hi -- f ) lo <= n <= hi, signed")
@@ -387,10 +266,7 @@ def m_divmod(lo, hi, n):
     return r, q
 
 
-@prim("UM*", "( u1 u2 -- ud )", inline=("a b", ("(a * b) & 0xFFFF", "(a * b) >> 16")))
-def um_star(m):
-    s = m.s
-    push2(s, s.pop() * s.pop())
+prim("UM*", "( u1 u2 -- ud )", inline=("a b", ("(a * b) & 0xFFFF", "(a * b) >> 16")))(None)
 
 
 @prim("*D", "( n1 n2 -- d ) signed 16x16 -> 32 (F83's name for M*)")
@@ -402,12 +278,8 @@ def star_d(m):
 prim("M*", "( n1 n2 -- d ) signed 16x16 -> 32")(star_d)
 
 
-@prim("UM/MOD", "( ud u -- urem uquot ) no trap: 0 or overflow gives -1 -1",
-      inline=("a b c", ("UMDIV((b << 16) | a, c)[0]", "UMDIV((b << 16) | a, c)[1]")))
-def um_slash_mod(m):
-    s = m.s
-    u = s.pop()
-    s.extend(um_divmod(pop2(s), u))
+prim("UM/MOD", "( ud u -- urem uquot ) no trap: 0 or overflow gives -1 -1",
+     inline=("a b c", ("UMDIV((b << 16) | a, c)[0]", "UMDIV((b << 16) | a, c)[1]")))(None)
 
 
 @prim("M/MOD", "( d n -- rem quot ) floored; n = 0 leaves d as it was")
@@ -443,23 +315,9 @@ def fmod(a, b):
 HELPERS.update(FDIV=fdiv, FMOD=fmod)
 
 
-@prim("/MOD", "( n1 n2 -- rem quot ) floored", inline=("a b", ("FMOD(a, b)", "FDIV(a, b)")))
-def slash_mod(m):
-    s = m.s
-    n, a = s.pop(), s.pop()
-    s.extend(m_divmod(a, MASK if a & 0x8000 else 0, n))
-
-
-@prim("/", "( n1 n2 -- quot ) floored; 7 0 / is 0", inline=("a b", ("FDIV(a, b)",)))
-def slash(m):
-    slash_mod(m)
-    del m.s[-2]
-
-
-@prim("MOD", "( n1 n2 -- rem ) floored; 7 0 MOD is 7", inline=("a b", ("FMOD(a, b)",)))
-def mod(m):
-    slash_mod(m)
-    m.s.pop()
+prim("/MOD", "( n1 n2 -- rem quot ) floored", inline=("a b", ("FMOD(a, b)", "FDIV(a, b)")))(None)
+prim("/", "( n1 n2 -- quot ) floored; 7 0 / is 0", inline=("a b", ("FDIV(a, b)",)))(None)
+prim("MOD", "( n1 n2 -- rem ) floored; 7 0 MOD is 7", inline=("a b", ("FMOD(a, b)",)))(None)
 
 
 @prim("*/MOD", "( n1 n2 n3 -- rem quot ) 32-bit intermediate, floored")

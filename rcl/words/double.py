@@ -50,21 +50,21 @@ def _dflag1(test):
 # low 16 bits and, shifted, its high 16 (two's complement either way).
 D1, D2 = "((b << 16) | a)", "((d << 16) | c)"
 prim("D+", "( d1 d2 -- d3 )", inline=("a b c d", (
-    "(a + c) & 0xFFFF", "((%s + %s) >> 16) & 0xFFFF" % (D1, D2))))(_d2(lambda a, b: a + b))
+    "(a + c) & 0xFFFF", "((%s + %s) >> 16) & 0xFFFF" % (D1, D2))))(None)
 prim("D-", "( d1 d2 -- d3 )", inline=("a b c d", (
-    "(a - c) & 0xFFFF", "((%s - %s) >> 16) & 0xFFFF" % (D1, D2))))(_d2(lambda a, b: a - b))
+    "(a - c) & 0xFFFF", "((%s - %s) >> 16) & 0xFFFF" % (D1, D2))))(None)
 prim("DMIN", "( d1 d2 -- d3 )")(_d2(lambda a, b: a if ds(a) < ds(b) else b))
 prim("DMAX", "( d1 d2 -- d3 )")(_d2(lambda a, b: a if ds(a) > ds(b) else b))
 prim("DNEGATE", "( d -- -d )", inline=("a b", (
-    "-a & 0xFFFF", "(-%s >> 16) & 0xFFFF" % D1)))(_d1(lambda a: -a))
+    "-a & 0xFFFF", "(-%s >> 16) & 0xFFFF" % D1)))(None)
 prim("DABS", "( d -- ud )")(_d1(lambda a: abs(ds(a))))
 prim("D2*", "( d -- 2d )")(_d1(lambda a: a << 1))
 prim("D2/", "( d -- d/2 ) arithmetic")(_d1(lambda a: ds(a) >> 1))
 prim("D=", "( d1 d2 -- f )", inline=("a b c d", (
-    "0xFFFF if a == c and b == d else 0",)))(_dflag2(lambda a, b: a == b))
+    "0xFFFF if a == c and b == d else 0",)))(None)
 prim("D<>", "( d1 d2 -- f )")(_dflag2(lambda a, b: a != b))
 prim("D<", "( d1 d2 -- f ) signed", inline=("a b c d", (
-    "0xFFFF if DS(%s) < DS(%s) else 0" % (D1, D2),)))(_dflag2(lambda a, b: ds(a) < ds(b)))
+    "0xFFFF if DS(%s) < DS(%s) else 0" % (D1, D2),)))(None)
 prim("D>", "( d1 d2 -- f ) signed")(_dflag2(lambda a, b: ds(a) > ds(b)))
 prim("DU<", "( ud1 ud2 -- f )")(_dflag2(lambda a, b: a < b))
 prim("DU>", "( ud1 ud2 -- f )")(_dflag2(lambda a, b: a > b))
@@ -82,12 +82,8 @@ def d_to_s(m):
     m.s.pop()
 
 
-@prim("?DNEGATE", "( d n -- d' ) negate d if n < 0", inline=("a b c", (
-    "-a & 0xFFFF if c & 0x8000 else a", "(-%s >> 16) & 0xFFFF if c & 0x8000 else b" % D1)))
-def q_dnegate(m):
-    n = m.s.pop()
-    if n & 0x8000:
-        push2(m.s, -pop2(m.s) & D_MASK)
+prim("?DNEGATE", "( d n -- d' ) negate d if n < 0", inline=("a b c", (
+    "-a & 0xFFFF if c & 0x8000 else a", "(-%s >> 16) & 0xFFFF if c & 0x8000 else b" % D1)))(None)
 
 
 @prim("?NEGATE", "( n1 n2 -- n3 ) negate n1 if n2 < 0")
@@ -96,11 +92,8 @@ def q_negate(m):
         m.s[-1] = -m.s[-1] & MASK
 
 
-@prim("M+", "( d n -- d' )", inline=("a b c", (
-    "(a + c) & 0xFFFF", "((%s + (c - 0x10000 if c & 0x8000 else c)) >> 16) & 0xFFFF" % D1)))
-def m_plus(m):
-    n = signed(m.s.pop())
-    push2(m.s, (pop2(m.s) + n) & D_MASK)
+prim("M+", "( d n -- d' )", inline=("a b c", (
+    "(a + c) & 0xFFFF", "((%s + (c - 0x10000 if c & 0x8000 else c)) >> 16) & 0xFFFF" % D1)))(None)
 
 
 @prim("M/", "( d n -- quot ) floored (RCL support)")

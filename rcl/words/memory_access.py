@@ -21,27 +21,11 @@ def cell_store(x, a):
 STORE = cell_store("a", "b")
 
 
-@prim("@", "( addr -- x )", inline=("a", (FETCH,)), memory=True)
-def fetch(m):
-    m.s[-1] = m.memory.fetch(m.s[-1])
-
-
-@prim("!", "( x addr -- )", inline=("a b", (), STORE), memory=True)
-def store(m):
-    a = m.s.pop()
-    m.memory.store(a, m.s.pop())
-
-
-@prim("C@", "( addr -- c )", inline=("a", ("mem[a]",)), memory=True)
-def c_fetch(m):
-    m.s[-1] = m.mem[m.s[-1]]
-
-
-@prim("C!", "( c addr -- )", inline=("a b", (), "mem[b] = a & 0xFF\nif W[b]: m.watched(b)"),
-      memory=True)
-def c_store(m):
-    a = m.s.pop()
-    m.memory.cstore(a, m.s.pop())
+prim("@", "( addr -- x )", inline=("a", (FETCH,)), memory=True)(None)
+prim("!", "( x addr -- )", inline=("a b", (), STORE), memory=True)(None)
+prim("C@", "( addr -- c )", inline=("a", ("mem[a]",)), memory=True)(None)
+prim("C!", "( c addr -- )", inline=("a b", (), "mem[b] = a & 0xFF\nif W[b]: m.watched(b)"),
+     memory=True)(None)
 
 
 @prim("+!", "( n addr -- ) add n to the cell at addr", memory=True)
@@ -50,28 +34,12 @@ def plus_store(m):
     m.memory.store(a, (m.memory.fetch(a) + m.s.pop()) & MASK)
 
 
-@prim("2@", "( addr -- d ) high cell at addr", memory=True,
-      inline=("a", ("mem[(a + 2) & 0xFFFF] | (mem[(a + 3) & 0xFFFF] << 8)", FETCH)))
-def two_fetch(m):
-    m.s.extend(m.memory.dfetch(m.s.pop()))
-
-
-@prim("2!", "( d addr -- ) high cell at addr", memory=True,
-      inline=("a b c", (), cell_store("b", "c") + "\n" + cell_store("a", "((c + 2) & 0xFFFF)")))
-def two_store(m):
-    s = m.s
-    a, hi, lo = s.pop(), s.pop(), s.pop()
-    m.memory.dstore(a, lo, hi)
-
-
-@prim("ON", "( addr -- ) store -1", memory=True, inline=("a", (), cell_store("0xFFFF", "a")))
-def on(m):
-    m.memory.store(m.s.pop(), MASK)
-
-
-@prim("OFF", "( addr -- ) store 0", memory=True, inline=("a", (), cell_store("0", "a")))
-def off(m):
-    m.memory.store(m.s.pop(), 0)
+prim("2@", "( addr -- d ) high cell at addr", memory=True,
+     inline=("a", ("mem[(a + 2) & 0xFFFF] | (mem[(a + 3) & 0xFFFF] << 8)", FETCH)))(None)
+prim("2!", "( d addr -- ) high cell at addr", memory=True,
+     inline=("a b c", (), cell_store("b", "c") + "\n" + cell_store("a", "((c + 2) & 0xFFFF)")))(None)
+prim("ON", "( addr -- ) store -1", memory=True, inline=("a", (), cell_store("0xFFFF", "a")))(None)
+prim("OFF", "( addr -- ) store 0", memory=True, inline=("a", (), cell_store("0", "a")))(None)
 
 
 def _span(m, n):
@@ -131,11 +99,8 @@ def move(m):
     m.memory.write(to, m.memory.read(frm, u))
 
 
-@prim("COUNT", "( addr -- addr+1 u )", inline=("a", ("(a + 1) & 0xFFFF", "mem[a]")),
-      memory=True)
-def count(m):
-    a = m.s.pop()
-    m.s.extend(((a + 1) & MASK, m.mem[a]))
+prim("COUNT", "( addr -- addr+1 u )", inline=("a", ("(a + 1) & 0xFFFF", "mem[a]")),
+     memory=True)(None)
 
 
 # ----------------------------------------------------------------- dictionary
@@ -177,6 +142,4 @@ def unused(m):
     m.s.append(max(0, limit - PAD_OFFSET - m.dictionary.here))
 
 
-@prim("NOOP", "( -- )", inline=("", ()))
-def noop(m):
-    pass
+prim("NOOP", "( -- )", inline=("", ()))(None)
