@@ -157,9 +157,14 @@ PURE = ["BOUNDS", "FLIP", "UT*", "UT+", "UT/", "R*/", "FRACTION", ">V4", "(FIXED
         "SIN", "COS", "SCALED", "RATIO"]
 
 
+# Inputs a word may take as addresses too: never the system variables
+# (0x400-0x47F), which a run itself changes (RATIO's 2@ of 1029 met DPL).
+INPUTS = st.one_of(st.integers(0, 0x400 - 4), st.integers(0x480, 3000))
+
+
 @pytest.mark.parametrize("name", PURE)
 @settings(max_examples=15, deadline=None, suppress_health_check=list(HealthCheck))
-@given(inputs=st.lists(st.integers(0, 3000), min_size=5, max_size=5))
+@given(inputs=st.lists(INPUTS, min_size=5, max_size=5))
 def test_a_computing_word_of_the_system_and_its_see_copy_give_the_same_results(
         system, name, inputs):
     copy = recompiled(system, decompile(system, system.dictionary.find(name)[0]), name)
