@@ -13,7 +13,9 @@ if (embed) document.body.classList.add("embed");
 // Ctrl-C reaches Python through Pyodide's interrupt buffer: shared memory,
 // which a browser gives only to a cross-origin isolated page.
 const isolated = self.crossOriginIsolated && typeof SharedArrayBuffer !== "undefined";
-const ctl = isolated ? new Int32Array(new SharedArrayBuffer(16)) : null;
+const ctl = isolated ? new Int32Array(new SharedArrayBuffer(16)) : null;   // worker.js says what each is
+const SIGINT_AFTER_MS = 30;   // a stop no tick took by then reaches Python as its SIGINT
+const DRIVEN = 0x3f, AUX_MOTORS = 0x05;   // the motor latch's relay and drive bits; ARM_ON, GRIP_ON
 const io = isolated ? new Uint8Array(new SharedArrayBuffer(1 << 16)) : null;
 
 function notice(text, ms = 4000) {
@@ -48,6 +50,10 @@ class VM {
     }
     else if (type === "frame") {
       data = JSON.parse(data);
+      if (this.stopping && !(data.motor & DRIVEN) && !(data.aux & AUX_MOTORS)) {
+        this.stopped("motors_worker", at - performance.timeOrigin);
+        this.stopped("motors");
+      }
       this.frame = data; view.update(data); status(data);
       if (window.rcl.onframe) window.rcl.onframe(data);
     }
@@ -86,9 +92,12 @@ class VM {
     Atomics.store(ctl, 2, 1); Atomics.notify(ctl, 2);
   }
   // A stop's report, in the page's time from the key (window.rcl.stops):
-  // `worker` when the worker printed " Interrupted" (the word stopped,
-  // motors off first), `out` when the page showed it, `prompt` when the
-  // machine is ready for the next line.
+  // `motors` when a frame showed every motor relay open (`motors_worker`:
+  // when the worker sent it), `worker` when the worker printed
+  // " Interrupted" (the word stopped), `out` when the page showed it,
+  // `prompt` when the machine is ready for the next line; `motor` and
+  // `aux`, the latches the last frame before the key showed; `sent` when
+  // the page's handler passed the stop to the worker.
   stopped(what, when = performance.now()) {
     const s = this.stopping;
     if (!s || s[what] !== undefined) return;
@@ -99,8 +108,17 @@ class VM {
   // at: the key's or the click's time (its event's timeStamp), else now
   stop(at) {
     if (!busy) return;
-    this.stopping = { at: at === undefined ? performance.now() : at };
-    if (ctl) { Atomics.store(ctl, 0, 2); Atomics.notify(ctl, 0); return; }
+    const f = this.frame || {};
+    const now = performance.now();
+    this.stopping = { at: at === undefined ? now : at, motor: f.motor, aux: f.aux };
+    this.stopping.sent = now - this.stopping.at;
+    if (ctl) {
+      Atomics.store(ctl, 3, 1); Atomics.notify(ctl, 3); Atomics.notify(ctl, 2);
+      setTimeout(() => {
+        if (Atomics.compareExchange(ctl, 3, 1, 0) === 1 && busy) Atomics.store(ctl, 0, 2);
+      }, SIGINT_AFTER_MS);
+      return;
+    }
     // not isolated: no way into a running worker but to end it
     notice("This page is not cross-origin isolated: Stop restarts the machine (your definitions are lost).", 8000);
     this.worker.terminate();
