@@ -245,20 +245,37 @@ def test_the_drawn_robot_advances_during_a_real_time_move(page, tmp_path):
     wait_idle(page)
 
 
-def test_ctrl_c_stops_a_mile_and_the_next_move_works(page):
+DRIVEN = 0x35                  # the motor latch: both relays closed, both drives on (rcl/robot.py)
+
+
+@pytest.mark.parametrize("how", ["ctrl-c", "stop-button"])
+def test_a_stop_in_a_mile_turns_the_motors_off_first_and_the_next_move_works(page, how):
+    """Ctrl-C in the console, or the Stop button, in the middle of a real
+    -time `1 MILES FORWARD`: the page's report (window.rcl.stops) says the
+    wheels were driven when the key came, and a frame with every motor
+    relay open (the board's latch, drawn) reached the page no later than
+    the ` Interrupted` text; the robot coasts to rest and moves again."""
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
+    set_rate(page, "1")
     start = call(page, "window.rcl.pose()")["x"]
     type_line(page, "1 MILES FORWARD")
-    wait_for(page, "window.rcl.view().pose.x > %f" % (start + 6), "the robot moving")
-    box = page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
+    wait_for(page, "window.rcl.view().pose.x > %f && window.rcl.view().relays.motor === %d"
+             % (start + 6, DRIVEN), "the robot moving, wheels driven")
     stops = len(page.execute_script("return window.rcl.stops"))
-    box.send_keys(Keys.CONTROL, "c")
+    if how == "ctrl-c":
+        page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea").send_keys(Keys.CONTROL, "c")
+    else:
+        page.find_element(By.ID, "stop").click()
     wait_idle(page)
     lines = page.execute_script("return window.rcl.screen()").splitlines()
     assert any(line.startswith("1 MILES FORWARD ") and "Interrupted" in line for line in lines)
     report = page.execute_script("return window.rcl.stops")[stops:]
-    assert len(report) == 1 and 0 <= report[0]["out"] <= report[0]["prompt"]   # the page saw it
+    assert len(report) == 1
+    r = report[0]
+    assert r["motor"] == DRIVEN                                  # driven when the key came
+    assert 0 <= r["motors"] <= r["out"] <= r["prompt"]           # motors off shown first
+    assert page.execute_script("return window.rcl.view().relays") == {"motor": 0, "aux": 0}
     set_rate(page, "0")
     assert call(page, "window.rcl.evaluate('2 SECONDS MOVING @ .')") == " 0  ok"   # it coasted to rest
     stopped = call(page, "window.rcl.pose()")["x"]
