@@ -327,6 +327,47 @@ def test_accept_and_key_read_what_is_typed_in_the_console(page):
     wait_idle(page)
 
 
+def screen_after(d, marker):
+    """The console's lines from the last one starting with marker."""
+    lines = d.execute_script("return window.rcl.screen(400)").splitlines()
+    starts = [i for i, line in enumerate(lines) if line.startswith(marker)]
+    return lines[starts[-1]:] if starts else []
+
+
+def test_dbg_steps_a_word_with_single_keys_in_the_console(page):
+    """DBG in the page as in the terminal: each key (no Enter after it)
+    is a command; Enter steps, C continues; each step's line names the
+    place, the word about to run and the stack; Stop while the view
+    waits for a key interrupts as Ctrl-C at KEY does."""
+    from selenium.webdriver.common.by import By
+    set_rate(page, "0")
+    box = page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
+    type_line(page, ": THREE  1 . 2 . 3 . ;")
+    wait_idle(page)
+    type_line(page, "DBG THREE")
+    step = "  (typed)  THREE > .  ( %d )  "
+    wait_for(page, "window.rcl.screen().includes(%s)" % json.dumps(step % 1), "the first step")
+    box.send_keys("\n")                                # Enter: `.` runs, 1 printed
+    wait_for(page, "window.rcl.screen().includes(%s)" % json.dumps(step % 2), "the second step")
+    box.send_keys("\n")
+    wait_for(page, "window.rcl.screen().includes(%s)" % json.dumps(step % 3), "the third step")
+    box.send_keys("c")                                 # continue: the rest runs
+    wait_idle(page)
+    shown = screen_after(page, "DBG THREE   Enter step")
+    assert shown[0] == "DBG THREE   Enter step  I into  O over  F finish  C continue  Q stop"
+    assert [line[:len(step % 1)] for line in shown[1:6:2]] == [step % n for n in (1, 2, 3)]
+    assert shown[2] == "1 " and shown[4] == "2 " and shown[6] == "3 "
+    assert shown[7].startswith("  done  ( )  ") and shown[7].endswith(" ok")
+    type_line(page, "DBG THREE")                       # Stop while the view waits for a key
+    wait_for(page, "window.rcl.screen().split('\\n').slice(-1)[0].startsWith(%s)" % json.dumps(step % 1),
+             "the view waiting")
+    page.find_element(By.ID, "stop").click()
+    wait_idle(page)
+    shown = screen_after(page, "DBG THREE   Enter step")
+    assert len(shown) == 2 and shown[1].startswith(step % 1) and shown[1].rstrip().endswith(" Interrupted")
+    assert call(page, "window.rcl.evaluate('2 3 + .')") == " 5  ok"
+
+
 def downloads(d, folder):
     d.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(folder)})
 

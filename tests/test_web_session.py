@@ -154,3 +154,20 @@ def test_a_stop_taken_at_a_tick_sends_the_motors_off_before_interrupted():
     assert 0 < stopped < 12 * 5280 / 10                     # far short of the mile
     assert s.evaluate(COMMAND) == "  ok"
     assert s.m.sim.pose[0] - stopped == pytest.approx(40.8, abs=0.5)   # the 3.4 feet from there
+
+
+def test_dbg_reads_single_keys_from_the_page_and_a_stop_there_interrupts():
+    """DBG's keys come through the page's read_key (no Enter); a stop while
+    it waits answers Ctrl-C (3), which interrupts as at the terminal's KEY."""
+    keys = [13, ord("c")]
+    s = Session(lambda kind, data: None, rate=0, read_key=lambda: keys.pop(0))
+    s.banner()
+    s.evaluate(": THREE  1 . 2 . 3 . ;")
+    out = s.evaluate("DBG THREE").splitlines()
+    assert out[1] == "DBG THREE   Enter step  I into  O over  F finish  C continue  Q stop"
+    assert out[2].startswith("  (typed)  THREE > .  ( 1 )  00:00:00")
+    assert out[3:5] == ["1 ", "  (typed)  THREE > .  ( 2 )  00:00:00  x 0.0 y 0.0 in  heading 0.0"]
+    assert out[5] == "2 3 " and out[6].startswith("  done  ( )") and out[6].endswith(" ok")
+    keys[:] = [3]
+    assert s.evaluate("DBG THREE").splitlines()[-1].rstrip().endswith(" Interrupted")
+    assert s.evaluate("2 3 + .") == " 5  ok"

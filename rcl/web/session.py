@@ -77,9 +77,14 @@ class PageStream:
         return False
 
 
+CTRL_C = 3                  # what the page answers a read with when Stop or Ctrl-C came
+
+
 class PageTerminal:
     """The page reads the lines: the shell only asks for a line when a word
-    does (ACCEPT, KEY), through the page's blocking `read_line`."""
+    does (ACCEPT, KEY, DBG's keys), through the page's blocking `read_line`
+    and `read_key`. A stop while a word waits there answers Ctrl-C, raised
+    as the terminal's read raises it."""
 
     rewinds = False
 
@@ -92,12 +97,17 @@ class PageTerminal:
         line = self.read_line(shown)
         if line is None:
             raise EOFError
+        if line == chr(CTRL_C):
+            raise KeyboardInterrupt
         return line
 
     def read_key(self):
-        if self.read_key_fn is None:
+        key = self.read_key_fn() if self.read_key_fn is not None else None
+        if key is None:
             raise rcl.ForthError(-39, "No input")
-        return self.read_key_fn()
+        if key == CTRL_C:
+            raise KeyboardInterrupt
+        return key
 
 
 class FigureCut(Exception):

@@ -34,14 +34,16 @@ function rateAsked() {
   return r < 0 ? 0 : r / 1000;
 }
 
-// A word reads the keyboard (ACCEPT, KEY): ask the page, wait for its answer.
+// A word reads the keyboard (ACCEPT, KEY, DBG's keys): ask the page, wait for
+// its answer; a stop meanwhile answers Ctrl-C ("\x03"), which the session
+// raises as the terminal's read does (KeyboardInterrupt: the word aborts).
 function waitInput(kind, shown) {
   if (!ctl) return null;                        // no shared memory: no input
   Atomics.store(ctl, 2, 0);
   post("read", { kind, shown });
   while (Atomics.load(ctl, 2) === 0) {
-    if (stopAsked()) Atomics.store(ctl, 0, 2);   // Ctrl-C while waiting: the machine's SIGINT
-    if (Atomics.load(ctl, 0) === 2) return null;
+    if (stopAsked()) return "\x03";
+    if (Atomics.compareExchange(ctl, 0, 2, 0) === 2) return "\x03";   // the page's fallback came first
     Atomics.wait(ctl, 2, 0, 50);
   }
   const n = new DataView(io.buffer).getInt32(0, true);
@@ -50,7 +52,7 @@ function waitInput(kind, shown) {
 const readLine = (shown) => waitInput("line", shown);
 function readKey() {
   const k = waitInput("key", "");
-  return k === null || k === "" ? 13 : k.codePointAt(0);
+  return k === null ? null : k === "" ? 13 : k.codePointAt(0);
 }
 
 function send(kind, data) {
