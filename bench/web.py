@@ -209,16 +209,17 @@ def stop_latency(d, tries=6):
         s = d.execute_script("return window.rcl.stops")[-1]
         nan = float("nan")
         out.append((how, s.get("motors", nan), s.get("worker", nan), s.get("out", nan), s["prompt"],
-                    s.get("sent", nan), s.get("motors_worker", nan)))
+                    s.get("sent", nan), s.get("motors_worker", nan), s.get("sigint", False)))
     return out
 
 
 def print_stops(stops, load):
     print("(5) Stop in a real-time mile, ms from the key: the page passed it on / motors off"
           " sent by the worker / shown / ' Interrupted' sent / shown / the prompt back")
-    for how, motors, worker, to_out, to_prompt, sent, motors_worker in stops:
-        print("    %-12s %5.0f / %5.0f / %5.0f / %5.0f / %5.0f / %5.0f"
-              % (how, sent, motors_worker, motors, worker, to_out, to_prompt))
+    for how, motors, worker, to_out, to_prompt, sent, motors_worker, sigint in stops:
+        print("    %-12s %5.0f / %5.0f / %5.0f / %5.0f / %5.0f / %5.0f%s"
+              % (how, sent, motors_worker, motors, worker, to_out, to_prompt,
+                 "  (no tick took it: Python's SIGINT did)" if sigint else ""))
     for i, what in ((1, "motors off shown"), (3, "' Interrupted' shown")):
         values = [s[i] for s in stops]
         print("    %s: median %.0f ms, worst %.0f ms over %d stops"

@@ -97,7 +97,8 @@ class VM {
   // " Interrupted" (the word stopped), `out` when the page showed it,
   // `prompt` when the machine is ready for the next line; `motor` and
   // `aux`, the latches the last frame before the key showed; `sent` when
-  // the page's handler passed the stop to the worker.
+  // the page's handler passed the stop to the worker; `sigint` when no tick
+  // took it within SIGINT_AFTER_MS (Python's SIGINT did).
   stopped(what, when = performance.now()) {
     const s = this.stopping;
     if (!s || s[what] !== undefined) return;
@@ -114,8 +115,9 @@ class VM {
     this.stopping.sent = now - this.stopping.at;
     if (ctl) {
       Atomics.store(ctl, 3, 1); Atomics.notify(ctl, 3); Atomics.notify(ctl, 2);
+      const stopping = this.stopping;
       setTimeout(() => {
-        if (Atomics.compareExchange(ctl, 3, 1, 0) === 1 && busy) Atomics.store(ctl, 0, 2);
+        if (Atomics.compareExchange(ctl, 3, 1, 0) === 1 && busy) { Atomics.store(ctl, 0, 2); stopping.sigint = true; }
       }, SIGINT_AFTER_MS);
       return;
     }
