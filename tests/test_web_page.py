@@ -287,11 +287,12 @@ def test_a_stop_in_a_mile_turns_the_motors_off_first_and_the_next_move_works(pag
 
 # ------------------------------------------- time, input, files, images
 def frames_during(d, text):
-    """The frames the page received while `text` ran: [t, wall, behind]."""
+    """The frames the page received while `text` ran: [t, wall, behind,
+    pacer] (up to its answer: not those of the idle catch-up after it)."""
     d.execute_script("window.__frames = []; window.rcl.onframe = (f) =>"
                      " window.__frames.push([f.t, f.wall, f.behind, f.pacer]);")
-    out = call(d, "window.rcl.evaluate(%s)" % json.dumps(text))
-    d.execute_script("window.rcl.onframe = null;")
+    out = call(d, "window.rcl.evaluate(%s).then((v) => { window.rcl.onframe = null; return v; })"
+               % json.dumps(text))
     return out, d.execute_script("return window.__frames")
 
 
@@ -363,7 +364,7 @@ def test_dbg_steps_a_word_with_single_keys_in_the_console(page):
              "the view waiting")
     page.find_element(By.ID, "stop").click()
     wait_idle(page)
-    shown = screen_after(page, "DBG THREE   Enter step")
+    shown = [line for line in screen_after(page, "DBG THREE   Enter step") if line.strip()]
     assert len(shown) == 2 and shown[1].startswith(step % 1) and shown[1].rstrip().endswith(" Interrupted")
     assert call(page, "window.rcl.evaluate('2 3 + .')") == " 5  ok"
 
