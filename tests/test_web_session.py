@@ -171,3 +171,18 @@ def test_dbg_reads_single_keys_from_the_page_and_a_stop_there_interrupts():
     keys[:] = [3]
     assert s.evaluate("DBG THREE").splitlines()[-1].rstrip().endswith(" Interrupted")
     assert s.evaluate("2 3 + .") == " 5  ok"
+
+
+def test_a_stop_that_comes_as_the_line_ends_is_not_left_for_the_next():
+    """The page's stop flag seen after the line (Fig. 1 worked out after the
+    prompt, an idle catch-up) is not taken: the next line runs."""
+    flag = [False]
+    s = Session(lambda kind, data: None, rate=1000, stop_asked=lambda: flag[0])
+    s.banner()
+    assert s.submit(COMMAND) == ""
+    flag[0] = True
+    s.settle()                                  # Fig. 1 of the line: taken between ticks
+    s.catch_up()
+    assert not s.m.break_pending
+    flag[0] = False
+    assert s.evaluate("2 3 + .") == " 5  ok"

@@ -164,13 +164,21 @@ class Frames(Trace):
             self.session.cost["figure_s"] += self.took
             self.session.cost["figures"] += 1
 
+    def stop_between_steps(self):
+        """A Stop that came while Fig. 1 is worked out (always between two
+        ticks) is taken at once, and the figure dropped."""
+        if self.session.take_stop():
+            raise FigureCut
+
     def worked_out(self):
         track = Track(self.recent[-FIGURE_ROWS:], self.FIELDS)
         if not track.n:
             return None
+        self.stop_between_steps()
         times, cuts = track.motion_time()
         fig = {"t": times, "cuts": cuts, "limit": FERR_LIMIT, "acc": [], "dec": []}
         for wheel in ("left", "right"):
+            self.stop_between_steps()
             fig["speed_" + wheel] = [v / COUNTS_PER_INCH for v in track.speed(wheel)]
             ref = track.reference(wheel)
             fig["ref_" + wheel] = [v / COUNTS_PER_INCH for v in ref]
@@ -207,6 +215,7 @@ class Session:
         self.send, self.sleep = send, sleep
         self.stop_asked = stop_asked or (lambda: False)
         self.relays_sent = None           # (motor, aux) latches the page was last sent
+        self.running = False              # a line runs (run): a stop can be taken
         self.as_json = frames_as_json     # the page's: one string crosses to JavaScript at once
         self.folder = folder or os.getcwd()
         self.m = None
@@ -237,12 +246,14 @@ class Session:
         return self.prompt
 
     def run(self, line, shown):
-        self.catch_up()
-        self.out.redraw(" ")                      # F83's blank after the line
-        self.out.tail = shown + line + " "
+        self.running = True                       # a stop is taken only now
         try:
+            self.catch_up()
+            self.out.redraw(" ")                  # F83's blank after the line
+            self.out.tail = shown + line + " "
             self.repl.onecmd(line)
         finally:
+            self.running = False
             self.frame(figure=False)              # the prompt first: Fig. 1 comes with settle()
             self.report_files()
 
@@ -309,8 +320,12 @@ class Session:
         """At a tick's end or in the pacer's wait (between two ticks): a
         Stop the page asked for is taken here, motors first, the page told,
         then the machine's break; a break already pending (Python's SIGINT)
-        gets its motors off here too. -> whether a stop is under way."""
+        gets its motors off here too. -> whether a stop is under way. Only
+        while a line runs: a stop that came as it ended is not left pending
+        for the next."""
         m = self.m
+        if not self.running:
+            return False
         asked = self.stop_asked()
         if not (asked or m.break_pending):
             return False
