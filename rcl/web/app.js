@@ -103,7 +103,7 @@ class VM {
     const s = this.stopping;
     if (!s || s[what] !== undefined) return;
     s[what] = when - s.at;
-    if (what === "prompt") { this.stopping = null; delete s.at; stops.push(s); }
+    if (what === "prompt") { this.stopping = null; view.held = false; delete s.at; stops.push(s); }
   }
 
   // at: the key's or the click's time (its event's timeStamp), else now
@@ -111,6 +111,7 @@ class VM {
     if (!busy) return;
     const f = this.frame || {};
     const now = performance.now();
+    view.held = true;                 // no drawing until the stop is answered: its messages first
     this.stopping = { at: at === undefined ? now : at, motor: f.motor, aux: f.aux };
     this.stopping.sent = now - this.stopping.at;
     if (ctl) {

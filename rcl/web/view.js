@@ -39,7 +39,8 @@ export class View {
       this.dirty = true;
     }, { passive: false });
     canvas.addEventListener("dblclick", () => { this.zoom = 1; this.dirty = true; });
-    const loop = () => { if (this.dirty) this.draw(); requestAnimationFrame(loop); };
+    this.held = false;                  // a stop under way: the page's thread answers it first
+    const loop = () => { if (this.dirty && !this.held) this.draw(); requestAnimationFrame(loop); };
     requestAnimationFrame(loop);
   }
 
