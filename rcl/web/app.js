@@ -14,7 +14,8 @@ if (embed) document.body.classList.add("embed");
 // which a browser gives only to a cross-origin isolated page.
 const isolated = self.crossOriginIsolated && typeof SharedArrayBuffer !== "undefined";
 const ctl = isolated ? new Int32Array(new SharedArrayBuffer(16)) : null;   // worker.js says what each is
-const SIGINT_AFTER_MS = 20;   // a stop no tick took by then reaches Python as its SIGINT
+const SIGINT_AFTER_MS = 50;   // a stop no tick took by then reaches Python as its SIGINT (a worker
+                              // waiting for a core still takes it at its next tick: the faster path)
 const DRIVEN = 0x3f, AUX_MOTORS = 0x05;   // the motor latch's relay and drive bits; ARM_ON, GRIP_ON
 const io = isolated ? new Uint8Array(new SharedArrayBuffer(1 << 16)) : null;
 
