@@ -41,6 +41,7 @@ from rcl.board import CLOCK_HZ
 from rcl.cli import BANNER, Output, version
 from rcl.plot import FERR_LIMIT
 from rcl.repl import Repl
+from rcl.robot import ARM_ON, BEEPER, GRIP_ON
 from rcl.sim.observe import Trace
 from rcl.sim.pace import Pacer
 from rcl.terminal import search_order_names
@@ -55,6 +56,7 @@ FIGURE_SHARE = 10           # Fig. 1 waits at least 10 times what it took last: 
                             # tenth of the worker's time, which then holds the view still
 CATCH_UP_S = 0.1            # wall seconds an idle catch-up may take
 SHORTEST_SLEEP_S = 0.002    # shorter waits are left to the next tick's
+AUX_MOTORS = ARM_ON | GRIP_ON | BEEPER      # what stop_motors turns off in the aux latch
 
 
 class PageStream:
@@ -218,7 +220,7 @@ class Session:
         self.running = False              # a line runs (run): a stop can be taken
         self.as_json = frames_as_json     # the page's: one string crosses to JavaScript at once
         self.folder = folder or os.getcwd()
-        self.m = None
+        self.m = self.frames = None       # (rcl.open's own output comes before either)
         self.out = Output(PageStream(send, self), flush_each=True)
         self.m = rcl.open(write=self.out.write, image=image)
         self.repl = Repl(self.m, self.out, term=PageTerminal(read_line, read_key))
@@ -329,7 +331,7 @@ class Session:
         asked = self.stop_asked()
         if not (asked or m.break_pending):
             return False
-        if m.board.motor_latch or m.board.aux_latch:
+        if m.board.motor_latch or m.board.aux_latch & AUX_MOTORS:
             m.board.stop_motors()
             self.frame(figure=False)
         if asked:
@@ -340,9 +342,8 @@ class Session:
         """Before any text: a frame when the relay latches changed since
         the last frame (what the page draws is never older than what it
         prints)."""
-        board = self.m.board if self.m is not None else None
-        if board is not None and (board.motor_latch, board.aux_latch) != self.relays_sent \
-                and getattr(self, "frames", None) is not None:
+        if self.frames is not None and \
+                (self.m.board.motor_latch, self.m.board.aux_latch) != self.relays_sent:
             self.frame(figure=False)
 
     # ------------------------------------------------------------- time
