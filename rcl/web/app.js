@@ -10,8 +10,9 @@ const embed = "embed" in options;
 if (embed) document.body.classList.add("embed");
 
 // ------------------------------------------------------- shared memory
-// Ctrl-C reaches Python through Pyodide's interrupt buffer: shared memory,
-// which a browser gives only to a cross-origin isolated page.
+// Stop and Ctrl-C reach the worker's Python through shared memory (a stop
+// flag, and Pyodide's interrupt buffer as the fallback), which a browser
+// gives only to a cross-origin isolated page.
 const isolated = self.crossOriginIsolated && typeof SharedArrayBuffer !== "undefined";
 const ctl = isolated ? new Int32Array(new SharedArrayBuffer(16)) : null;   // worker.js says what each is
 const SIGINT_AFTER_MS = 50;   // a stop no tick took by then reaches Python as its SIGINT (a worker
