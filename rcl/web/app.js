@@ -366,11 +366,15 @@ window.rcl = {
   view() { return view.state(); },
   // where the time goes: the worker's frames and Fig. 1 (seconds, counts), the page's drawing (ms)
   cost() { return { worker: vm.frame ? vm.frame.cost : null, page: view.state().cost }; },
-  // the console's text, its last `rows` lines
+  // the console's text, its last `rows` screen rows, a line the terminal
+  // wrapped joined again
   screen(rows = 200) {
     if (!term.term) return "";
     const b = term.term.buffer.active, out = [];
-    for (let i = Math.max(0, b.length - rows); i < b.length; i++) out.push(b.getLine(i).translateToString(true));
+    for (let i = Math.max(0, b.length - rows); i < b.length; i++) {
+      const line = b.getLine(i), text = line.translateToString(true);
+      if (line.isWrapped && out.length) out[out.length - 1] += text; else out.push(text);
+    }
     return out.join("\n").replace(/\n+$/, "");
   },
   busy() { return busy; },
