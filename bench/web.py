@@ -16,11 +16,14 @@ Needs node/npm (to build), chromium, chromedriver and selenium. Prints:
     postMessage), Fig. 1 worked out, the page's drawing of each;
 (4) the size of the built site, as served and as gzip would send it;
 (5) Stop during a real-time mile, Ctrl-C typed in the console and the
-    Stop button in turn: milliseconds of the page's clock from the key to
-    the page's report of the stop (" Interrupted" printed: the word
-    stopped, motors off first) and to the prompt back (window.rcl.stops).
+    Stop button in turn (--stops N of them): milliseconds of the page's
+    clock from the key to the page's report of the motors off (a frame
+    with every motor relay open), to " Interrupted" shown (the word
+    stopped) and to the prompt back (window.rcl.stops); median and worst,
+    and the load average meanwhile.
 
     --quick     leaves MAILBOT's day out (it takes minutes in the page)
+    --stop-only only (5)
     --node      adds MAILBOT's day on the bare machine in Pyodide under Node
 """
 import argparse
@@ -28,6 +31,7 @@ import gzip
 import os
 import pathlib
 import shutil
+import statistics
 import sys
 import tempfile
 import threading
@@ -179,8 +183,9 @@ def screenshot(d, url, path):
 
 def stop_latency(d, tries=6):
     """Stops in the middle of a real-time `1 MILES FORWARD`, Ctrl-C typed in
-    the console and the Stop button in turn: -> [(how, ms to " Interrupted",
-    ms to the prompt)], in the page's clock from the key (window.rcl.stops)."""
+    the console and the Stop button in turn: -> [(how, ms to the motors off
+    shown, to " Interrupted" sent by the worker, shown, to the prompt)], in
+    the page's clock from the key (window.rcl.stops)."""
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
     set_rate(d, "1")
@@ -202,8 +207,24 @@ def stop_latency(d, tries=6):
         while len(d.execute_script("return window.rcl.stops")) == n:
             time.sleep(0.05)
         s = d.execute_script("return window.rcl.stops")[-1]
-        out.append((how, s.get("worker", float("nan")), s.get("out", float("nan")), s["prompt"]))
+        nan = float("nan")
+        out.append((how, s.get("motors", nan), s.get("worker", nan), s.get("out", nan), s["prompt"],
+                    s.get("sent", nan), s.get("motors_worker", nan), s.get("sigint", False)))
     return out
+
+
+def print_stops(stops, load):
+    print("(5) Stop in a real-time mile, ms from the key: the page passed it on / motors off"
+          " sent by the worker / shown / ' Interrupted' sent / shown / the prompt back")
+    for how, motors, worker, to_out, to_prompt, sent, motors_worker, sigint in stops:
+        print("    %-12s %5.0f / %5.0f / %5.0f / %5.0f / %5.0f / %5.0f%s"
+              % (how, sent, motors_worker, motors, worker, to_out, to_prompt,
+                 "  (no tick took it: Python's SIGINT did)" if sigint else ""))
+    for i, what in ((1, "motors off shown"), (3, "' Interrupted' shown")):
+        values = [s[i] for s in stops]
+        print("    %s: median %.0f ms, worst %.0f ms over %d stops"
+              % (what, statistics.median(values), max(values), len(values)))
+    print("    load average (1 min) before and after: %.1f, %.1f" % load, flush=True)
 
 
 def site_size(folder):
@@ -218,6 +239,8 @@ def main():
     p.add_argument("--site", help="a site rcl-web build made (default: build one now)")
     p.add_argument("--screenshot", metavar="PNG", help="only take the page's picture into PNG")
     p.add_argument("--quick", action="store_true", help="leave MAILBOT's day out")
+    p.add_argument("--stops", type=int, default=10, metavar="N", help="stops to time (default 10)")
+    p.add_argument("--stop-only", action="store_true", help="only time the stops")
     p.add_argument("--node", action="store_true",
                    help="also run MAILBOT's day on the bare machine in Pyodide under Node")
     args = p.parse_args()
@@ -237,6 +260,16 @@ def main():
             d.quit()
             server.shutdown()
         return
+    if args.stop_only:
+        try:
+            until_ok(d, url)
+            load = os.getloadavg()[0]
+            stops = stop_latency(d, args.stops)
+            print_stops(stops, (load, os.getloadavg()[0]))
+        finally:
+            d.quit()
+            server.shutdown()
+        return
     try:
         cold = until_ok(d, url)
         while not call(d, "window.rcl.cached()"):
@@ -252,13 +285,9 @@ def main():
         print("(3) live view while both wheels drive, real time: %.0f drawings a second "
               "over %.1f s" % (fps, seconds))
         print_cost(cost)
-        stops = stop_latency(d)
-        print("(5) Stop in a real-time mile, ms from the key: ' Interrupted' printed by the"
-              " worker / shown by the page / the prompt back")
-        for how, worker, to_out, to_prompt in stops:
-            print("    %-12s %6.0f / %6.0f / %6.0f" % (how, worker, to_out, to_prompt))
-        print("    worst: %.0f ms to ' Interrupted' shown, %.0f ms to the prompt"
-              % (max(s[2] for s in stops), max(s[3] for s in stops)), flush=True)
+        load = os.getloadavg()[0]
+        stops = stop_latency(d, args.stops)
+        print_stops(stops, (load, os.getloadavg()[0]))
         if not args.quick:
             set_rate(d, "0")
             evaluate(d, "INCLUDE examples/listing6.fs\n8 AM TICKS!")

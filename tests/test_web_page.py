@@ -222,43 +222,67 @@ def test_typed_command_and_pose_print_what_the_terminal_prints(page):
 
 
 def test_the_drawn_robot_advances_during_a_real_time_move(page, tmp_path):
+    """The view's state is sampled in the page at each animation frame (a
+    slow poll from here, or the screenshot, cannot miss the move's two
+    seconds); a screenshot is taken as soon as it was seen moving."""
     set_rate(page, "1")
     start = call(page, "window.rcl.pose()")["x"]
+    page.execute_script(
+        "window.__seen = []; const sample = () => { const v = window.rcl.view();"
+        " if (window.rcl.busy() && %f < v.pose.x && v.pose.x < %f)"
+        "   window.__seen.push([v.pose.x, v.robot.x, v.frames]);"
+        " if (window.__seen !== null) requestAnimationFrame(sample); };"
+        " requestAnimationFrame(sample);" % (start + 1, start + 39))
     type_line(page, COMMAND)
-    seen = []
+    shot = tmp_path / "moving.png"
     end = time.monotonic() + PATIENCE
     while time.monotonic() < end:
-        v = page.execute_script("return [window.rcl.busy(), window.rcl.view()]")
-        busy, view = v
-        if busy and start + 1 < view["pose"]["x"] < start + 39:
-            seen.append((view["pose"]["x"], view["robot"]["x"], view["frames"]))
-            if len(seen) == 1:
-                page.save_screenshot(str(tmp_path / "moving.png"))
-        if not busy and (seen or view["pose"]["x"] > start + 39):
+        busy, seen = page.execute_script("return [window.rcl.busy(), window.__seen.length]")
+        if seen and not shot.exists():
+            page.save_screenshot(str(shot))
+        if not busy and page.execute_script("return window.rcl.view().pose.x") > start + 39:
             break
         time.sleep(0.02)
+    seen = page.execute_script("const s = window.__seen; window.__seen = null; return s;")
     assert len(seen) >= 2, "the view never showed the robot between start and end"
     xs = [s[0] for s in seen]
     assert xs == sorted(xs) and xs[-1] > xs[0]                   # forward, drawn further right
     assert seen[-1][1] > seen[0][1] and seen[-1][2] > seen[0][2]
-    assert (tmp_path / "moving.png").stat().st_size > 0
+    assert shot.stat().st_size > 0
     wait_idle(page)
 
 
-def test_ctrl_c_stops_a_mile_and_the_next_move_works(page):
+DRIVEN = 0x35                  # the motor latch: both relays closed, both drives on (rcl/robot.py)
+
+
+@pytest.mark.parametrize("how", ["ctrl-c", "stop-button"])
+def test_a_stop_in_a_mile_turns_the_motors_off_first_and_the_next_move_works(page, how):
+    """Ctrl-C in the console, or the Stop button, in the middle of a real
+    -time `1 MILES FORWARD`: the page's report (window.rcl.stops) says the
+    wheels were driven when the key came, and a frame with every motor
+    relay open (the board's latch, drawn) reached the page no later than
+    the ` Interrupted` text; the robot coasts to rest and moves again."""
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
+    set_rate(page, "1")
     start = call(page, "window.rcl.pose()")["x"]
     type_line(page, "1 MILES FORWARD")
-    wait_for(page, "window.rcl.view().pose.x > %f" % (start + 6), "the robot moving")
-    box = page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
+    wait_for(page, "window.rcl.view().pose.x > %f && window.rcl.view().relays.motor === %d"
+             % (start + 6, DRIVEN), "the robot moving, wheels driven")
     stops = len(page.execute_script("return window.rcl.stops"))
-    box.send_keys(Keys.CONTROL, "c")
+    if how == "ctrl-c":
+        page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea").send_keys(Keys.CONTROL, "c")
+    else:
+        page.find_element(By.ID, "stop").click()
     wait_idle(page)
     lines = page.execute_script("return window.rcl.screen()").splitlines()
     assert any(line.startswith("1 MILES FORWARD ") and "Interrupted" in line for line in lines)
     report = page.execute_script("return window.rcl.stops")[stops:]
-    assert len(report) == 1 and 0 <= report[0]["out"] <= report[0]["prompt"]   # the page saw it
+    assert len(report) == 1
+    r = report[0]
+    assert r["motor"] == DRIVEN                                  # driven when the key came
+    assert 0 <= r["motors"] <= r["out"] <= r["prompt"]           # motors off shown first
+    assert page.execute_script("return window.rcl.view().relays") == {"motor": 0, "aux": 0}
     set_rate(page, "0")
     assert call(page, "window.rcl.evaluate('2 SECONDS MOVING @ .')") == " 0  ok"   # it coasted to rest
     stopped = call(page, "window.rcl.pose()")["x"]
@@ -270,11 +294,12 @@ def test_ctrl_c_stops_a_mile_and_the_next_move_works(page):
 
 # ------------------------------------------- time, input, files, images
 def frames_during(d, text):
-    """The frames the page received while `text` ran: [t, wall, behind]."""
+    """The frames the page received while `text` ran: [t, wall, behind,
+    pacer] (up to its answer: not those of the idle catch-up after it)."""
     d.execute_script("window.__frames = []; window.rcl.onframe = (f) =>"
                      " window.__frames.push([f.t, f.wall, f.behind, f.pacer]);")
-    out = call(d, "window.rcl.evaluate(%s)" % json.dumps(text))
-    d.execute_script("window.rcl.onframe = null;")
+    out = call(d, "window.rcl.evaluate(%s).then((v) => { window.rcl.onframe = null; return v; })"
+               % json.dumps(text))
     return out, d.execute_script("return window.__frames")
 
 
@@ -308,6 +333,47 @@ def test_accept_and_key_read_what_is_typed_in_the_console(page):
     page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea").send_keys("A")
     wait_for(page, "window.rcl.screen().includes('KEY . 65  ok')", "KEY's code")
     wait_idle(page)
+
+
+def screen_after(d, marker):
+    """The console's lines from the last one starting with marker."""
+    lines = d.execute_script("return window.rcl.screen(400)").splitlines()
+    starts = [i for i, line in enumerate(lines) if line.startswith(marker)]
+    return lines[starts[-1]:] if starts else []
+
+
+def test_dbg_steps_a_word_with_single_keys_in_the_console(page):
+    """DBG in the page as in the terminal: each key (no Enter after it)
+    is a command; Enter steps, C continues; each step's line names the
+    place, the word about to run and the stack; Stop while the view
+    waits for a key interrupts as Ctrl-C at KEY does."""
+    from selenium.webdriver.common.by import By
+    set_rate(page, "0")
+    box = page.find_element(By.CSS_SELECTOR, "#console .xterm-helper-textarea")
+    type_line(page, ": THREE  1 . 2 . 3 . ;")
+    wait_idle(page)
+    type_line(page, "DBG THREE")
+    step = "  (typed)  THREE > .  ( %d )  "
+    wait_for(page, "window.rcl.screen().includes(%s)" % json.dumps(step % 1), "the first step")
+    box.send_keys("\n")                                # Enter: `.` runs, 1 printed
+    wait_for(page, "window.rcl.screen().includes(%s)" % json.dumps(step % 2), "the second step")
+    box.send_keys("\n")
+    wait_for(page, "window.rcl.screen().includes(%s)" % json.dumps(step % 3), "the third step")
+    box.send_keys("c")                                 # continue: the rest runs
+    wait_idle(page)
+    shown = screen_after(page, "DBG THREE   Enter step")
+    assert shown[0] == "DBG THREE   Enter step  I into  O over  F finish  C continue  Q stop"
+    assert [line[:len(step % 1)] for line in shown[1:6:2]] == [step % n for n in (1, 2, 3)]
+    assert shown[2] == "1 " and shown[4] == "2 " and shown[6] == "3 "
+    assert shown[7].startswith("  done  ( )  ") and shown[7].endswith(" ok")
+    type_line(page, "DBG THREE")                       # Stop while the view waits for a key
+    wait_for(page, "window.rcl.screen().split('\\n').slice(-1)[0].startsWith(%s)" % json.dumps(step % 1),
+             "the view waiting")
+    page.find_element(By.ID, "stop").click()
+    wait_idle(page)
+    shown = [line for line in screen_after(page, "DBG THREE   Enter step") if line.strip()]
+    assert len(shown) == 2 and shown[1].startswith(step % 1) and shown[1].rstrip().endswith(" Interrupted")
+    assert call(page, "window.rcl.evaluate('2 3 + .')") == " 5  ok"
 
 
 def downloads(d, folder):

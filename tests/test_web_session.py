@@ -7,6 +7,8 @@ import subprocess
 import sys
 import zipfile
 
+import pytest
+
 import rcl
 from rcl.sim.observe import Trace
 from rcl.web import build
@@ -123,3 +125,64 @@ def test_the_page_gets_frames_as_json_text_with_the_same_pen_points():
     m.evaluate(COMMAND)
     assert [v for f in frames for v in f["path"]] == [v for r in trace.rows for v in r[1:3]]
     assert frames[-1]["figure"]["limit"] == 100
+
+
+def test_a_stop_taken_at_a_tick_sends_the_motors_off_before_interrupted():
+    """The page's stop flag, seen by the session at a tick's end in the
+    middle of `1 MILES FORWARD`: a frame with every relay open goes out
+    before ` Interrupted`, the word ends there, and the next move works."""
+    sent, asked = [], []
+
+    def stop_asked():                   # the page's flag: set once, when the wheels have driven 100 ticks
+        if s is not None and s.m.board.motor_latch:
+            asked.append(1)
+            return len(asked) == 100
+        return False
+    s = None
+    s = Session(lambda kind, data: sent.append((kind, data)), rate=0, stop_asked=stop_asked)
+    s.banner()
+    s.submit("1 MILES FORWARD")
+    frames = [i for i, (kind, data) in enumerate(sent) if kind == "frame"]
+    driven = [i for i in frames if sent[i][1]["motor"] == 0x35]     # M1/M2 ON and GO: both wheels driven
+    said = [i for i, (kind, data) in enumerate(sent) if kind == "out" and "Interrupted" in data]
+    assert driven and len(said) == 1
+    off = [i for i in frames if driven[-1] < i < said[0]]
+    assert off and sent[off[0]][1]["motor"] == 0 and sent[off[0]][1]["aux"] == 0
+    assert sent[off[0]][1]["t"] <= s.m.sim.seconds
+    assert s.m.board.motor_latch == 0
+    stopped = s.m.sim.pose[0]
+    assert 0 < stopped < 12 * 5280 / 10                     # far short of the mile
+    assert s.evaluate(COMMAND) == "  ok"
+    assert s.m.sim.pose[0] - stopped == pytest.approx(40.8, abs=0.5)   # the 3.4 feet from there
+
+
+def test_dbg_reads_single_keys_from_the_page_and_a_stop_there_interrupts():
+    """DBG's keys come through the page's read_key (no Enter); a stop while
+    it waits answers Ctrl-C (3), which interrupts as at the terminal's KEY."""
+    keys = [13, ord("c")]
+    s = Session(lambda kind, data: None, rate=0, read_key=lambda: keys.pop(0))
+    s.banner()
+    s.evaluate(": THREE  1 . 2 . 3 . ;")
+    out = s.evaluate("DBG THREE").splitlines()
+    assert out[1] == "DBG THREE   Enter step  I into  O over  F finish  C continue  Q stop"
+    assert out[2].startswith("  (typed)  THREE > .  ( 1 )  00:00:00")
+    assert out[3:5] == ["1 ", "  (typed)  THREE > .  ( 2 )  00:00:00  x 0.0 y 0.0 in  heading 0.0"]
+    assert out[5] == "2 3 " and out[6].startswith("  done  ( )") and out[6].endswith(" ok")
+    keys[:] = [3]
+    assert s.evaluate("DBG THREE").splitlines()[-1].rstrip().endswith(" Interrupted")
+    assert s.evaluate("2 3 + .") == " 5  ok"
+
+
+def test_a_stop_that_comes_as_the_line_ends_is_not_left_for_the_next():
+    """The page's stop flag seen after the line (Fig. 1 worked out after the
+    prompt, an idle catch-up) is not taken: the next line runs."""
+    flag = [False]
+    s = Session(lambda kind, data: None, rate=1000, stop_asked=lambda: flag[0])
+    s.banner()
+    assert s.submit(COMMAND) == ""
+    flag[0] = True
+    s.settle()                                  # Fig. 1 of the line: taken between ticks
+    s.catch_up()
+    assert not s.m.break_pending
+    flag[0] = False
+    assert s.evaluate("2 3 + .") == " 5  ok"

@@ -10,10 +10,14 @@ const embed = "embed" in options;
 if (embed) document.body.classList.add("embed");
 
 // ------------------------------------------------------- shared memory
-// Ctrl-C reaches Python through Pyodide's interrupt buffer: shared memory,
-// which a browser gives only to a cross-origin isolated page.
+// Stop and Ctrl-C reach the worker's Python through shared memory (a stop
+// flag, and Pyodide's interrupt buffer as the fallback), which a browser
+// gives only to a cross-origin isolated page.
 const isolated = self.crossOriginIsolated && typeof SharedArrayBuffer !== "undefined";
-const ctl = isolated ? new Int32Array(new SharedArrayBuffer(16)) : null;
+const ctl = isolated ? new Int32Array(new SharedArrayBuffer(16)) : null;   // worker.js says what each is
+const SIGINT_AFTER_MS = 50;   // a stop no tick took by then reaches Python as its SIGINT (a worker
+                              // waiting for a core still takes it at its next tick: the faster path)
+const DRIVEN = 0x3f, AUX_MOTORS = 0x05;   // the motor latch's relay and drive bits; ARM_ON, GRIP_ON
 const io = isolated ? new Uint8Array(new SharedArrayBuffer(1 << 16)) : null;
 
 function notice(text, ms = 4000) {
@@ -48,6 +52,10 @@ class VM {
     }
     else if (type === "frame") {
       data = JSON.parse(data);
+      if (this.stopping && !(data.motor & DRIVEN) && !(data.aux & AUX_MOTORS)) {
+        this.stopped("motors_worker", at - performance.timeOrigin);
+        this.stopped("motors");
+      }
       this.frame = data; view.update(data); status(data);
       if (window.rcl.onframe) window.rcl.onframe(data);
     }
@@ -86,21 +94,36 @@ class VM {
     Atomics.store(ctl, 2, 1); Atomics.notify(ctl, 2);
   }
   // A stop's report, in the page's time from the key (window.rcl.stops):
-  // `worker` when the worker printed " Interrupted" (the word stopped,
-  // motors off first), `out` when the page showed it, `prompt` when the
-  // machine is ready for the next line.
+  // `motors` when a frame showed every motor relay open (`motors_worker`:
+  // when the worker sent it), `worker` when the worker printed
+  // " Interrupted" (the word stopped), `out` when the page showed it,
+  // `prompt` when the machine is ready for the next line; `motor` and
+  // `aux`, the latches the last frame before the key showed; `sent` when
+  // the page's handler passed the stop to the worker; `sigint` when no tick
+  // took it within SIGINT_AFTER_MS (Python's SIGINT did).
   stopped(what, when = performance.now()) {
     const s = this.stopping;
     if (!s || s[what] !== undefined) return;
     s[what] = when - s.at;
-    if (what === "prompt") { this.stopping = null; delete s.at; stops.push(s); }
+    if (what === "prompt") { this.stopping = null; view.held = false; delete s.at; stops.push(s); }
   }
 
   // at: the key's or the click's time (its event's timeStamp), else now
   stop(at) {
     if (!busy) return;
-    this.stopping = { at: at === undefined ? performance.now() : at };
-    if (ctl) { Atomics.store(ctl, 0, 2); Atomics.notify(ctl, 0); return; }
+    const f = this.frame || {};
+    const now = performance.now();
+    view.held = true;                 // no drawing until the stop is answered: its messages first
+    this.stopping = { at: at === undefined ? now : at, motor: f.motor, aux: f.aux };
+    this.stopping.sent = now - this.stopping.at;
+    if (ctl) {
+      Atomics.store(ctl, 3, 1); Atomics.notify(ctl, 3); Atomics.notify(ctl, 2);
+      const stopping = this.stopping;
+      setTimeout(() => {
+        if (Atomics.compareExchange(ctl, 3, 1, 0) === 1 && busy) { Atomics.store(ctl, 0, 2); stopping.sigint = true; }
+      }, SIGINT_AFTER_MS);
+      return;
+    }
     // not isolated: no way into a running worker but to end it
     notice("This page is not cross-origin isolated: Stop restarts the machine (your definitions are lost).", 8000);
     this.worker.terminate();
@@ -343,11 +366,15 @@ window.rcl = {
   view() { return view.state(); },
   // where the time goes: the worker's frames and Fig. 1 (seconds, counts), the page's drawing (ms)
   cost() { return { worker: vm.frame ? vm.frame.cost : null, page: view.state().cost }; },
-  // the console's text, its last `rows` lines
+  // the console's text, its last `rows` screen rows, a line the terminal
+  // wrapped joined again
   screen(rows = 200) {
     if (!term.term) return "";
     const b = term.term.buffer.active, out = [];
-    for (let i = Math.max(0, b.length - rows); i < b.length; i++) out.push(b.getLine(i).translateToString(true));
+    for (let i = Math.max(0, b.length - rows); i < b.length; i++) {
+      const line = b.getLine(i), text = line.translateToString(true);
+      if (line.isWrapped && out.length) out[out.length - 1] += text; else out.push(text);
+    }
     return out.join("\n").replace(/\n+$/, "");
   },
   busy() { return busy; },

@@ -16,10 +16,19 @@ line wrote files (SAVE-SYSTEM). After a line's prompt has gone to the
 page, `settle()` sends the frame with Fig. 1 of the line's end: a stop
 is reported before that drawing is worked out.
 
-Ctrl-C reaches the machine as Python's SIGINT (Pyodide's interrupt
-buffer), which the machine already turns into a break at its next
-primitive, motors first, as in the terminal; `sleep` (the pacer's wait)
-is the page's, and wakes at once on that interrupt.
+A Stop (Ctrl-C, the Stop button) is the page's `stop_asked()`, which
+takes the page's stop flag (shared memory) when it is set. The session
+looks at it at the end of every tick, and the pacer's `sleep` wakes on
+it: there, between two ticks, the board is in no middle of anything, so
+the motors go off at once and a frame tells the page (its `motor` and
+`aux`, the relay latches), before the machine's break is requested and
+taken at its next primitive, where the error ends the word and its
+` Interrupted` is printed. A stop the ticks do not see (Python running
+without ticks, e.g. Fig. 1 being worked out) reaches the machine a little
+later as Python's SIGINT (Pyodide's interrupt buffer, set by the page):
+the machine breaks at its next primitive, motors first, as in the
+terminal; whatever the path, a frame with the latches as they are goes
+to the page before any text.
 """
 import json
 import os
@@ -32,6 +41,7 @@ from rcl.board import CLOCK_HZ
 from rcl.cli import BANNER, Output, version
 from rcl.plot import FERR_LIMIT
 from rcl.repl import Repl
+from rcl.robot import ARM_ON, BEEPER, GRIP_ON
 from rcl.sim.observe import Trace
 from rcl.sim.pace import Pacer
 from rcl.terminal import search_order_names
@@ -46,16 +56,20 @@ FIGURE_SHARE = 10           # Fig. 1 waits at least 10 times what it took last: 
                             # tenth of the worker's time, which then holds the view still
 CATCH_UP_S = 0.1            # wall seconds an idle catch-up may take
 SHORTEST_SLEEP_S = 0.002    # shorter waits are left to the next tick's
+AUX_MOTORS = ARM_ON | GRIP_ON | BEEPER      # what stop_motors turns off in the aux latch
 
 
 class PageStream:
-    """What the machine prints, to the page as it comes."""
+    """What the machine prints, to the page as it comes; relays that
+    changed since the last frame are told first (a stop's motors off
+    reach the page before its ` Interrupted`)."""
 
-    def __init__(self, send):
-        self.send = send
+    def __init__(self, send, session):
+        self.send, self.session = send, session
 
     def write(self, text):
         if text:
+            self.session.relays_first()
             self.send("out", text)
 
     def flush(self):
@@ -65,9 +79,14 @@ class PageStream:
         return False
 
 
+CTRL_C = 3                  # what the page answers a read with when Stop or Ctrl-C came
+
+
 class PageTerminal:
     """The page reads the lines: the shell only asks for a line when a word
-    does (ACCEPT, KEY), through the page's blocking `read_line`."""
+    does (ACCEPT, KEY, DBG's keys), through the page's blocking `read_line`
+    and `read_key`. A stop while a word waits there answers Ctrl-C, raised
+    as the terminal's read raises it."""
 
     rewinds = False
 
@@ -80,12 +99,17 @@ class PageTerminal:
         line = self.read_line(shown)
         if line is None:
             raise EOFError
+        if line == chr(CTRL_C):
+            raise KeyboardInterrupt
         return line
 
     def read_key(self):
-        if self.read_key_fn is None:
+        key = self.read_key_fn() if self.read_key_fn is not None else None
+        if key is None:
             raise rcl.ForthError(-39, "No input")
-        return self.read_key_fn()
+        if key == CTRL_C:
+            raise KeyboardInterrupt
+        return key
 
 
 class FigureCut(Exception):
@@ -106,6 +130,7 @@ class Frames(Trace):
         super().__init__(session.m.board, keep=True)
 
     def __call__(self, board):
+        self.session.take_stop()
         before = len(self.rows)
         super().__call__(board)
         if len(self.rows) > before:
@@ -141,13 +166,21 @@ class Frames(Trace):
             self.session.cost["figure_s"] += self.took
             self.session.cost["figures"] += 1
 
+    def stop_between_steps(self):
+        """A Stop that came while Fig. 1 is worked out (always between two
+        ticks) is taken at once, and the figure dropped."""
+        if self.session.take_stop():
+            raise FigureCut
+
     def worked_out(self):
         track = Track(self.recent[-FIGURE_ROWS:], self.FIELDS)
         if not track.n:
             return None
+        self.stop_between_steps()
         times, cuts = track.motion_time()
         fig = {"t": times, "cuts": cuts, "limit": FERR_LIMIT, "acc": [], "dec": []}
         for wheel in ("left", "right"):
+            self.stop_between_steps()
             fig["speed_" + wheel] = [v / COUNTS_PER_INCH for v in track.speed(wheel)]
             ref = track.reference(wheel)
             fig["ref_" + wheel] = [v / COUNTS_PER_INCH for v in ref]
@@ -167,23 +200,28 @@ class RatePacer(Pacer):
 
     started = 0                   # pacers made so far: a frame names the one that paced it
 
-    def __init__(self, clock, rate, sleep):
+    def __init__(self, clock, rate, sleep, take_stop=lambda: False):
         RatePacer.started += 1
         self.number = RatePacer.started
 
-        def wait(s):
-            if s / rate >= SHORTEST_SLEEP_S:
+        def wait(s):                  # a stop: no wait, and one that comes meanwhile ends it
+            if s / rate >= SHORTEST_SLEEP_S and not take_stop():
                 sleep(s / rate)
+                take_stop()
         super().__init__(clock, wall=lambda: time.monotonic() * rate, sleep=wait)
 
 
 class Session:
     def __init__(self, send, sleep=time.sleep, read_line=None, read_key=None,
-                 image=None, rate=1.0, folder=None, frames_as_json=False):
+                 image=None, rate=1.0, folder=None, frames_as_json=False, stop_asked=None):
         self.send, self.sleep = send, sleep
+        self.stop_asked = stop_asked or (lambda: False)
+        self.relays_sent = None           # (motor, aux) latches the page was last sent
+        self.running = False              # a line runs (run): a stop can be taken
         self.as_json = frames_as_json     # the page's: one string crosses to JavaScript at once
         self.folder = folder or os.getcwd()
-        self.out = Output(PageStream(send), flush_each=True)
+        self.m = self.frames = None       # (rcl.open's own output comes before either)
+        self.out = Output(PageStream(send, self), flush_each=True)
         self.m = rcl.open(write=self.out.write, image=image)
         self.repl = Repl(self.m, self.out, term=PageTerminal(read_line, read_key))
         self.rate = None
@@ -210,12 +248,14 @@ class Session:
         return self.prompt
 
     def run(self, line, shown):
-        self.catch_up()
-        self.out.redraw(" ")                      # F83's blank after the line
-        self.out.tail = shown + line + " "
+        self.running = True                       # a stop is taken only now
         try:
+            self.catch_up()
+            self.out.redraw(" ")                  # F83's blank after the line
+            self.out.tail = shown + line + " "
             self.repl.onecmd(line)
         finally:
+            self.running = False
             self.frame(figure=False)              # the prompt first: Fig. 1 comes with settle()
             self.report_files()
 
@@ -272,10 +312,39 @@ class Session:
                     break
                 self.m.sim.run(min(behind, 0.5))
             else:
-                pacer = RatePacer(self.m.clock, self.rate, self.sleep)
+                pacer = RatePacer(self.m.clock, self.rate, self.sleep, self.take_stop)
         finally:
             self.m.board.pacer = pacer
         self.frame()
+
+    # ------------------------------------------------------------- stop
+    def take_stop(self):
+        """At a tick's end or in the pacer's wait (between two ticks): a
+        Stop the page asked for is taken here, motors first, the page told,
+        then the machine's break; a break already pending (Python's SIGINT)
+        gets its motors off here too. -> whether a stop is under way. Only
+        while a line runs: a stop that came as it ended is not left pending
+        for the next."""
+        m = self.m
+        if not self.running:
+            return False
+        asked = self.stop_asked()
+        if not (asked or m.break_pending):
+            return False
+        if m.board.motor_latch or m.board.aux_latch & AUX_MOTORS:
+            m.board.stop_motors()
+            self.frame(figure=False)
+        if asked:
+            m.request_break()
+        return True
+
+    def relays_first(self):
+        """Before any text: a frame when the relay latches changed since
+        the last frame (what the page draws is never older than what it
+        prints)."""
+        if self.frames is not None and \
+                (self.m.board.motor_latch, self.m.board.aux_latch) != self.relays_sent:
+            self.frame(figure=False)
 
     # ------------------------------------------------------------- time
     def set_rate(self, rate):
@@ -283,7 +352,8 @@ class Session:
         rate = float(rate)
         self.rate = rate
         self.frame_s = FRAME_S if rate > 0 else FLAT_OUT_FRAME_S
-        self.m.board.pacer = RatePacer(self.m.clock, rate, self.sleep) if rate > 0 else None
+        self.m.board.pacer = RatePacer(self.m.clock, rate, self.sleep, self.take_stop) \
+            if rate > 0 else None
 
     # ----------------------------------------------------------- frames
     def pose(self, state):
@@ -323,6 +393,8 @@ class Session:
             data = dict(self.last_state)
         else:
             data = self.pose(self.last_state)
+        board = self.m.board
+        data["motor"], data["aux"] = self.relays_sent = (board.motor_latch, board.aux_latch)
         data["path"] = [v for r in rows for v in r[1:3]]
         data["cost"] = dict(self.cost)
         every = FIGURE_S if self.rate else 4 * FIGURE_S       # flat out: the run comes first

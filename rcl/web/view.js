@@ -11,6 +11,7 @@ const PATH_MAX = 200000;      // points of the pen kept (memory stays bounded)
 const STEP_IN = 0.05;         // the pen takes a point this far from the last
 const STRAIGHT_IN = 0.01;     // a point this close to the line on goes into that line
 const COLOURS = { left: "#1f77b4", right: "#ff7f0e" };
+const LEFT_DRIVEN = 0x11, RIGHT_DRIVEN = 0x24;   // M1_ON | M1_GO, M2_ON | M2_GO (rcl/robot.py)
 
 export class View {
   constructor(canvas, figureCanvas) {
@@ -22,6 +23,7 @@ export class View {
     this.direction = null;              // the last segment's first direction, a unit vector
     this.start = null;
     this.pose = { x: 0, y: 0, heading: 0, arm: 8, jaw: 0, t: 0 };
+    this.relays = { motor: 0, aux: 0 };   // the board's latches: a driven wheel is drawn green
     this.figure = null;
     this.zoom = 1;                      // the user's, on top of the fit
     this.scale = 4;                     // pixels per inch, eased
@@ -37,7 +39,8 @@ export class View {
       this.dirty = true;
     }, { passive: false });
     canvas.addEventListener("dblclick", () => { this.zoom = 1; this.dirty = true; });
-    const loop = () => { if (this.dirty) this.draw(); requestAnimationFrame(loop); };
+    this.held = false;                  // a stop under way: the page's thread answers it first
+    const loop = () => { if (this.dirty && !this.held) this.draw(); requestAnimationFrame(loop); };
     requestAnimationFrame(loop);
   }
 
@@ -50,6 +53,7 @@ export class View {
     if (this.path.length > PATH_MAX) this.cut();
     this.pose = { x: frame.x, y: frame.y, heading: frame.heading, arm: frame.arm,
                   jaw: frame.jaw, t: frame.t };
+    if (frame.motor !== undefined) this.relays = { motor: frame.motor, aux: frame.aux };
     if (!this.start) this.start = { x: frame.x, y: frame.y, heading: frame.heading };
     if (frame.figure) { this.figure = frame.figure; this.figureDirty = true; }
     this.dirty = true;
@@ -202,8 +206,11 @@ export class View {
     const r = BODY_IN * s;
     g.fillStyle = "#dfe7f2cc"; g.strokeStyle = "#34495e"; g.lineWidth = 1.5;
     g.beginPath(); g.arc(0, 0, r, 0, 2 * Math.PI); g.fill(); g.stroke();
-    g.fillStyle = "#34495e";                       // the wheels
-    for (const side of [-1, 1]) g.fillRect(-2.2 * s, side * TRACK_IN / 2 * s - 0.6 * s, 4.4 * s, 1.2 * s);
+    for (const side of [-1, 1]) {                  // the wheels: green while relay and drive are on
+      const bits = side < 0 ? LEFT_DRIVEN : RIGHT_DRIVEN;   // side -1: the left wheel (up, heading 0)
+      g.fillStyle = (this.relays.motor & bits) === bits ? "#27ae60" : "#34495e";
+      g.fillRect(-2.2 * s, side * TRACK_IN / 2 * s - 0.6 * s, 4.4 * s, 1.2 * s);
+    }
     // the heading
     g.strokeStyle = "#34495e"; g.lineWidth = 2;
     g.beginPath(); g.moveTo(0, 0); g.lineTo(r * 0.8, 0); g.stroke();
@@ -295,7 +302,7 @@ export class View {
 
   // What the tests and course pages read: where the robot is drawn.
   state() {
-    return { frames: this.frames, robot: { ...this.robotPx }, pose: { ...this.pose },
+    return { frames: this.frames, robot: { ...this.robotPx }, pose: { ...this.pose }, relays: { ...this.relays },
              path: this.path.length, scale: this.scale, cost: { ...this.cost } };
   }
 }

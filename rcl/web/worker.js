@@ -3,10 +3,13 @@
 // come out as messages while the word runs.
 //
 // Shared memory (when the page is cross-origin isolated):
-//   ctl  Int32Array(4): [0] Pyodide's interrupt buffer (2 = Ctrl-C), also
-//        what the pacer's sleep waits on, so a Stop wakes it at once;
+//   ctl  Int32Array(4): [0] Pyodide's interrupt buffer (2 = Ctrl-C: Python's
+//        SIGINT), set by the page only for a stop the ticks did not take;
 //        [1] the rate the page asks for, x1000 (-1: flat out);
-//        [2] a typed line or key is ready in io (ACCEPT, KEY)
+//        [2] a typed line or key is ready in io (ACCEPT, KEY);
+//        [3] the page's stop flag (1: Stop or Ctrl-C), taken (back to 0) by
+//        the session at a tick's end and what the pacer's sleep waits on,
+//        so a stop wakes it at once: motors off there, then the break
 //   io   Uint8Array: [0..3] length, then the line's UTF-8 bytes
 import { loadPyodide } from "./pyodide/pyodide.mjs";
 
@@ -16,10 +19,14 @@ const post = (type, data) => self.postMessage({ type, data, at: performance.time
 
 function sleep(seconds) {
   const ms = Math.max(0, seconds * 1000);
-  if (ctl) { Atomics.wait(ctl, 0, 0, ms); return; }
+  if (ctl) { Atomics.wait(ctl, 3, 0, ms); return; }
   const end = performance.now() + ms;          // not isolated: no other way
   while (performance.now() < end) { /* wait */ }
 }
+
+// The page's stop, taken once: by the session (a tick's end) or by the page's
+// own fallback to Python's SIGINT, never both.
+const stopAsked = () => ctl !== null && Atomics.compareExchange(ctl, 3, 1, 0) === 1;
 
 function rateAsked() {
   if (!ctl) return null;
@@ -27,13 +34,16 @@ function rateAsked() {
   return r < 0 ? 0 : r / 1000;
 }
 
-// A word reads the keyboard (ACCEPT, KEY): ask the page, wait for its answer.
+// A word reads the keyboard (ACCEPT, KEY, DBG's keys): ask the page, wait for
+// its answer; a stop meanwhile answers Ctrl-C ("\x03"), which the session
+// raises as the terminal's read does (KeyboardInterrupt: the word aborts).
 function waitInput(kind, shown) {
   if (!ctl) return null;                        // no shared memory: no input
   Atomics.store(ctl, 2, 0);
   post("read", { kind, shown });
   while (Atomics.load(ctl, 2) === 0) {
-    if (Atomics.load(ctl, 0) === 2) return null; // Ctrl-C while waiting
+    if (stopAsked()) return "\x03";
+    if (Atomics.compareExchange(ctl, 0, 2, 0) === 2) return "\x03";   // the page's fallback came first
     Atomics.wait(ctl, 2, 0, 50);
   }
   const n = new DataView(io.buffer).getInt32(0, true);
@@ -42,7 +52,7 @@ function waitInput(kind, shown) {
 const readLine = (shown) => waitInput("line", shown);
 function readKey() {
   const k = waitInput("key", "");
-  return k === null || k === "" ? 13 : k.codePointAt(0);
+  return k === null ? null : k === "" ? 13 : k.codePointAt(0);
 }
 
 function send(kind, data) {
@@ -89,7 +99,8 @@ async function start(msg) {
 }
 
 function openSession(image, rate) {
-  const kw = { sleep, read_line: readLine, read_key: readKey, rate, frames_as_json: true };
+  const kw = { sleep, read_line: readLine, read_key: readKey, rate, frames_as_json: true,
+               stop_asked: stopAsked };
   if (image) kw.image = image;
   return Session.callKwargs(send, kw);
 }
@@ -159,7 +170,7 @@ const handlers = {
 };
 
 self.onmessage = (e) => {
-  if (ctl) Atomics.store(ctl, 0, 0);           // a Ctrl-C that came after its word
+  if (ctl) { Atomics.store(ctl, 0, 0); Atomics.store(ctl, 3, 0); }   // a stop that came after its word
   const h = handlers[e.data.type];
   if (h) h(e.data);
 };
