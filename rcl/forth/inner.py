@@ -311,6 +311,9 @@ class Inner:
         if self.break_pending and not self.masked:
             self.break_pending = False
             self.reschedule()
+            # Motors first: before the error climbs the stack and its
+            # backtrace is built (the abort's safe state stops them again).
+            self.board.stop_motors()
             if self.leave_signal:
                 raise Terminated(self.leave_signal)
             error, self.stop_error = self.stop_error, None
