@@ -384,6 +384,26 @@ def test_a_second_host_is_refused_naming_the_cause_and_rcl_says_so(running, imag
                           "connected\n" % b.where)
 
 
+def test_a_refused_host_that_emptied_its_input_as_it_opened_hears_the_refusal_at_its_hello(
+        running, image):
+    # pyserial's socket:// empties its input as it opens: a REFUSED sent
+    # at the connection's accept alone could be gone before rcl looks, and
+    # rcl said "No answer from a board" (seen once in a whole run)
+    b = running("tcp")
+    m = rcl.open(port=b.where, image=image)
+    try:
+        raw = b.raw()
+        raw.frames(0.3)                                  # emptied, as pyserial does
+        raw.send(P.frame(0, "HELLO", version=P.VERSION))
+        got = raw.frames(2.0, lambda f: f.name == "REFUSED")
+        assert [(f.name, f.seq, f["reason"]) for f in got] == \
+            [("REFUSED", 0, "busy: another host is connected")]
+        raw.close()
+        assert m.evaluate("1 .") == "1 "                  # the first host goes on
+    finally:
+        m.board.close()
+
+
 def test_a_start_that_fails_after_connecting_leaves_the_board_to_the_next_host(
         running, image, tmp_path):
     # rcl.open() connects, then loads RCL (here a damaged image; on a busy

@@ -106,6 +106,7 @@ def serve_pty(server, stop, status):
 
 
 BUSY = "busy: another host is connected"
+REFUSED = P.frame(0, "REFUSED", ack=0, reason=BUSY)
 
 
 def serve_tcp(server, address, stop, status):
@@ -135,7 +136,7 @@ def serve_tcp(server, address, stop, status):
                         or served.replaced_by(listener, server, newcomer), on_idle="close")
         if newcomer:
             server.hang_up()                      # the silent host is dropped
-        for sock, _ in served.refused:
+        for sock, _, _ in served.refused:
             sock.close()
         conn.close()
         conn = newcomer[0] if newcomer else None
@@ -151,11 +152,11 @@ def accept(listener):
 class Served:
     """The connection being served, and what to do with another."""
 
-    LINGER = 1.0          # seconds a refused connection is read from before it is closed
+    LINGER = 3.0          # seconds a refused connection is heard before it is closed
 
     def __init__(self, conn):
         self.conn, self.since = conn, time.monotonic()
-        self.refused = []          # (socket, when to close it)
+        self.refused = []          # (socket, when to close it, its FrameReader)
 
     def replaced_by(self, listener, server, newcomer):
         """True when a new connection should take this one's place (put in
@@ -173,12 +174,12 @@ class Served:
             newcomer.append(other)
             return True
         try:
-            other.sendall(P.frame(0, "REFUSED", ack=0, reason=BUSY))
-            other.shutdown(socket.SHUT_WR)
+            other.sendall(REFUSED)
             other.setblocking(False)
         except OSError:
             pass
-        self.refused.append((other, time.monotonic() + self.LINGER))
+        reader = P.FrameReader(P.received_by(P.BOARD))
+        self.refused.append((other, time.monotonic() + self.LINGER, reader))
         return False
 
     def gone(self):
@@ -192,10 +193,17 @@ class Served:
 
     def linger(self):
         keep = []
-        for sock, until in self.refused:
+        for sock, until, reader in self.refused:
             try:
-                while sock.recv(4096):
-                    pass
+                while True:
+                    data = sock.recv(4096)
+                    if not data:
+                        break
+                    # each HELLO gets the refusal again: a host's port may
+                    # drop what came before it looked (pyserial's socket://
+                    # empties its input as it opens)
+                    if any(f.name == "HELLO" for f in reader.feed(data)):
+                        sock.sendall(REFUSED)
                 gone = True                 # the newcomer closed its end
             except (BlockingIOError, InterruptedError):
                 gone = False
@@ -204,7 +212,7 @@ class Served:
             if gone or time.monotonic() > until:
                 sock.close()
             else:
-                keep.append((sock, until))
+                keep.append((sock, until, reader))
         self.refused = keep
 
 
