@@ -268,7 +268,7 @@ class Repl:
     def read_key(self):
         self.out.flush()
         with self.status_held():
-            return self.term.read_key()
+            return self.term.read_key(lambda: self.m.break_pending)
 
     @contextlib.contextmanager
     def status_held(self):

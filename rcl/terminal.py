@@ -14,6 +14,7 @@ keys wait for the next one.
 import atexit
 import math
 import os
+import select
 import shutil
 import sys
 
@@ -83,9 +84,12 @@ def history_path():
     return os.path.join(base, "rcl", "history")
 
 
-def read_tty_key():
+def read_tty_key(interrupted=lambda: False):
     """One key from the terminal, unechoed and unbuffered (cbreak: Ctrl-C
-    still interrupts). Enter reads as 13, as on F83's keyboard."""
+    still interrupts). Enter reads as 13, as on F83's keyboard. The wait
+    looks at interrupted() ten times a second: a Ctrl-C whose KeyboardInterrupt
+    Python swallowed (raised inside a finalizer: "Exception ignored") still
+    ends it, where a blocking read was resumed and waited for a key."""
     try:
         import termios
         import tty
@@ -98,6 +102,9 @@ def read_tty_key():
         return 13 if c == "\n" else ord(c)
     try:
         tty.setcbreak(fd, termios.TCSANOW)      # keep keys typed ahead
+        while not select.select([fd], [], [], 0.1)[0]:
+            if interrupted():
+                raise KeyboardInterrupt
         c = os.read(fd, 1)
     finally:
         termios.tcsetattr(fd, termios.TCSADRAIN, saved)
@@ -138,8 +145,8 @@ class PromptTerminal:
             self.out.redraw(shown)               # it erased the row: put it back
             raise
 
-    def read_key(self):
-        return read_tty_key()
+    def read_key(self, interrupted=lambda: False):
+        return read_tty_key(interrupted)
 
 
 def output_above_status():
@@ -235,5 +242,5 @@ class PlainTerminal:
         self.out.redraw("\x1b[%dA\r" % rows)
         return line
 
-    def read_key(self):
-        return read_tty_key()
+    def read_key(self, interrupted=lambda: False):
+        return read_tty_key(interrupted)

@@ -266,9 +266,9 @@ class Forth(Inner, Outer):
                 return
 
             def on_sigint(signum, frame):
+                self.request_break()           # (kept if the raise is swallowed)
                 if self.in_input:
                     raise KeyboardInterrupt
-                self.request_break()
             signal.signal(signal.SIGINT, on_sigint)
             try:
                 yield
