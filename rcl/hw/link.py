@@ -84,6 +84,7 @@ class LinkBoard(Board):
         self.period = self.replay.period = 10_000 * US
         self.ticking = False
         self.silent_for = 0.0                 # s: our longest silence past the board's watchdog
+        self.heard_again = 0.0                # when a frame went out after it
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
         self.bytes_out = self.bytes_in = 0
         self.name = ""
@@ -321,7 +322,7 @@ class LinkBoard(Board):
         board's tick then stops, that is why."""
         gap = now - self.last_tx
         if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
-            self.silent_for = max(self.silent_for, gap)
+            self.silent_for, self.heard_again = max(self.silent_for, gap), now
         self.last_tx = now
 
     def port_failed(self, e):
@@ -608,6 +609,8 @@ class LinkBoard(Board):
         """One TICK: the machine's time to the tick's, then its handler,
         replayed (tickreplay.py), its writes sent as TICK_DONE."""
         replay = self.replay
+        if self.silent_for and tick.arrived > self.heard_again + P.WATCHDOG_MS / 1000:
+            self.silent_for = 0.0             # the board ticked on past our silence: no trip
         if self.lockstep is not None:
             self.lockstep.follows = False     # from here the ticks are the clock
         m.catch_up(replay.board_time(tick["tick"], m.clock))
