@@ -103,7 +103,9 @@ class PageTerminal:
             raise KeyboardInterrupt
         return line
 
-    def read_key(self):
+    def read_key(self, interrupted=None):
+        # (interrupted: the terminal's way to see a lost Ctrl-C; the page's
+        # stop flag ends this wait itself)
         key = self.read_key_fn() if self.read_key_fn is not None else None
         if key is None:
             raise rcl.ForthError(-39, "No input")
