@@ -15,14 +15,28 @@ _cache = None
 # Tests that run in real time (a pty, TCP, a firmware board, a browser):
 # marked real_time, they run with the cyclic garbage collector off (below).
 REAL_TIME = ("test_console_pty.py", "test_repl_pty.py", "test_ctrl_c_pty.py",
-             "test_link.py", "test_link_late.py", "test_link_serve.py",
+             "test_link.py", "test_link_late.py", "test_link_serve.py", "test_link_session.py",
              "test_firmware_", "test_sessions.py", "test_web_page.py", "conformance")
 
 
+# Files that run the Uno image under simavr: a simulated ATmega328P in real
+# time needs most of a core. Two at once (one on each worker) took both
+# cores at their raised priority, and the kernel's own workers, which carry
+# every pty's bytes, waited seconds for a turn: boards heard nothing, hosts
+# were silent past the watchdog. They run one after another on one worker.
+ONE_UNO_AT_A_TIME = ("test_firmware_simavr.py", "test_firmware_hardening.py",
+                     "test_sessions.py", "conformance")
+
+
+@pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
+    """Mark real-time tests; give each test its xdist group: its file (a
+    file's module fixtures start once), or one group for the Uno files."""
     for item in items:
         if any(part in item.nodeid for part in REAL_TIME):
             item.add_marker(pytest.mark.real_time)
+        uno = any(part in item.nodeid for part in ONE_UNO_AT_A_TIME)
+        item.add_marker(pytest.mark.xdist_group("uno" if uno else item.nodeid.split("::")[0]))
 
 
 @pytest.fixture(autouse=True)

@@ -130,20 +130,6 @@ def parse_note(line):
     return note
 
 
-def board_priority(proc):
-    """A simulated board stands for a board with a CPU of its own: its
-    process is given a higher priority (nice -10) where the tests may set
-    one (as root), so that other work on the machine, the suite's other
-    worker included, keeps it from running less. The host under test keeps
-    the normal priority: a busy host is a case rcl must meet (Host too
-    slow), a board that stops running is not one real hardware has."""
-    try:
-        os.setpriority(os.PRIO_PROCESS, proc.pid, -10)
-    except OSError:
-        pass
-    return proc
-
-
 class BoardProcess:
     """A board program: its first stdout line is its pty's path; later
     lines are event notes, kept (parsed) in `notes`."""
@@ -156,9 +142,9 @@ class BoardProcess:
         self.proc = None
 
     def __enter__(self):
-        self.proc = board_priority(subprocess.Popen(
+        self.proc = subprocess.Popen(
             self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-            text=True, bufsize=1))                            # never the terminal's input
+            text=True, bufsize=1)                            # never the terminal's input
         ready, _, _ = select.select([self.proc.stdout], [], [], self.startup)
         if not ready:
             self.close()

@@ -11,6 +11,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 import rcl
 from rcl.forth.decode import decode
 from compiler_support import PERIODS, PRIM, run, same_both_ways
+from suite_size import scaled
 
 P4 = ": K1 5 ;  : P4 0 3 0 DO I 10 + ['] K1 >BODY CELL+ ! K1 + LOOP ;"
 
@@ -122,7 +123,8 @@ piece = st.one_of(
     st.builds("I {} C!".format, st.sampled_from(VALUES)))
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=scaled(40, 15), deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(body=st.lists(piece, min_size=1, max_size=6).map(" ".join),
        period=st.integers(3 * PRIM, 40 * PRIM),
        handler=st.sampled_from(["", "TICKS @ %d !" % VALUES[1], "TICKS @ %d C!" % VALUES[0]]))

@@ -29,7 +29,6 @@ from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, PINS_TEST, ROOT, Fa
                               connect, counts, harness_built, leg_after_reconnect, simulated,
                               uno_image, within)
 from firmware_support import simavr  # noqa: F401 (a fixture)
-from firmware_support import board_priority
 
 
 # ------------------------------------------- the harness, on its own program
@@ -67,10 +66,10 @@ class PinsTest:
 
 def test_the_harness_prints_its_pty_first_takes_commands_and_carries_bytes_both_ways(tmp_path):
     stats = tmp_path / "stats.json"
-    proc = board_priority(subprocess.Popen([harness_built(), "--quiet", "--stats", stats,
+    proc = subprocess.Popen([harness_built(), "--quiet", "--stats", stats,
                                              PINS_TEST],
                                             stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                            text=True))
+                                            text=True)
     try:
         path = proc.stdout.readline().strip()
         assert path.startswith("/dev/pts/")

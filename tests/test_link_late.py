@@ -11,14 +11,13 @@ import pytest
 
 import rcl
 from rcl.hw import protocol as P
-from firmware_support import board_priority
 
 
 @pytest.fixture
 def free_running_board():
-    proc = board_priority(subprocess.Popen(
+    proc = subprocess.Popen(
         [sys.executable, "-m", "rcl.hw.boardcli", "--pty", "--free-running"],
-        stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True))
+        stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
     yield proc.stdout.readline().strip()
     proc.terminate()
     proc.wait(10)

@@ -9,7 +9,6 @@ import sys
 import pytest
 
 import rcl
-from firmware_support import board_priority
 
 LISTING1 = os.path.join(rcl.SCREENS, "examples", "listing1.fs")
 
@@ -19,9 +18,9 @@ class Served:
 
     def __init__(self, tmp_path, *args):
         self.report = tmp_path / "board.json"
-        self.proc = board_priority(subprocess.Popen(
+        self.proc = subprocess.Popen(
             [sys.executable, "-m", "rcl.hw.boardcli", *args, "--report", str(self.report)],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True))
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.where = self.proc.stdout.readline().strip()
 
     def stop(self):

@@ -16,7 +16,6 @@ import rcl
 from rcl.hw.protocol import LinkError
 from rcl.hw.session import (ASKING, TRANSITIONS, Cause, IllegalTransition, Request, Session,
                             State)
-from firmware_support import board_priority
 
 S = State
 DOCS = pathlib.Path(__file__).resolve().parent.parent / "docs"
@@ -129,9 +128,9 @@ def test_a_links_life_walks_the_documented_states():
 
 
 def test_a_closed_connection_is_a_lost_link_of_cause_port():
-    served = board_priority(subprocess.Popen(
+    served = subprocess.Popen(
         [sys.executable, "-m", "rcl.hw.boardcli", "--tcp", "127.0.0.1:0"],
-        stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True))
+        stdout=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
     try:
         where = served.stdout.readline().strip().rsplit(" ", 1)[1]
         m = rcl.open(port="socket://" + where)

@@ -35,7 +35,7 @@ import pytest
 
 import rcl
 from rcl.hw import protocol as P
-from firmware_support import (BoardProcess, board_priority, harness_built, native_program,
+from firmware_support import (BoardProcess, harness_built, native_program,
                               uno_image)
 from suite_size import scaled
 
@@ -49,9 +49,9 @@ class RclBoard:
     """rcl-board in its own process; `where` is what rcl's --port takes."""
 
     def __init__(self, *args):
-        self.proc = board_priority(subprocess.Popen(
+        self.proc = subprocess.Popen(
             [sys.executable, "-m", "rcl.hw.boardcli", *args], stdin=subprocess.DEVNULL,
-            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True))
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
         line = self.proc.stdout.readline().strip()
         self.tcp = line.startswith("listening")
         self.address = line.rsplit(" ", 1)[1] if self.tcp else line
