@@ -305,25 +305,28 @@ class LinkBoard(Board):
 
     def send(self, data):
         with self.lock:
+            began = time.monotonic()
             try:
                 self.port.write(data)
             except PORT_ERRORS as e:
                 failed = e
             else:
                 self.bytes_out += len(data)
-                self.heard_from_us(time.monotonic())
+                self.heard_from_us(began, time.monotonic())
                 return
         self.port_failed(failed)              # (outside the lock: it sends SAFE)
 
-    def heard_from_us(self, now):
-        """A frame went out at `now`. A gap since the last one beyond the
-        board's watchdog (this whole process stopped: a long garbage
-        collection, a machine that did not schedule it) is kept: if the
-        board's tick then stops, that is why."""
-        gap = now - self.last_tx
+    def heard_from_us(self, began, ended):
+        """A frame was written from `began` to `ended`. A gap from the last
+        write's end to this one's start beyond the board's watchdog (this
+        whole process stopped: a long garbage collection, a machine that did
+        not schedule it) is kept: if the board's tick then stops, that is
+        why. A write that waited (the port took no bytes: the board, or the
+        line, did not read) is not our silence."""
+        gap = began - self.last_tx
         if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
-            self.silent_for, self.heard_again = max(self.silent_for, gap), now
-        self.last_tx = now
+            self.silent_for, self.heard_again = max(self.silent_for, gap), ended
+        self.last_tx = ended
 
     def port_failed(self, e):
         loss = Loss(Cause.PORT, "port: %s" % e)

@@ -52,6 +52,15 @@ ALIGN = 3000 * US
 STALL = 0.020                # s: a longer gap between the watchdog's looks is the board's stall
 
 
+class HeldTick:
+    """Lockstep: the tick whose handler the host runs; board time stands
+    at `at` (its TICK's moment) until the host is done with it."""
+
+    def __init__(self, tick, at):
+        self.tick, self.at = tick, at
+        self.done = False            # its final TICK_DONE has come
+
+
 class BoardMemory:
     """The 64 KiB at segment FORTH_CS on the board: on a link it is the
     host's (the host serves those addresses itself), here only a store."""
@@ -133,15 +142,15 @@ class BoardServer:
         self.last_reply = None
         self.last_valid = None       # board clock of the last good host frame
         self.looked_at = time.monotonic()   # the watchdog's last look
-        self.safe = True             # the host given up (watchdog, hang-up): relays forced off
-        self.in_session = False      # a good frame came since the host last went
+        # A good frame came since the host last went. False: no host, or
+        # one given up (watchdog, hang-up), and the relays forced off.
+        self.host_present = False
         self.last_sent = 0.0
         self.started = time.monotonic()
         # lockstep (the extension, simulated boards only): board time waits
         # for each tick's final TICK_DONE and WAIT, and for CLOCK before ticks
         self.lockstep = lockstep
-        self.awaiting = None         # the tick whose handler the host runs (lockstep)
-        self.done = False            # ... and its final TICK_DONE has come
+        self.held = None             # the HeldTick the host runs (lockstep)
         self.cutting = False
         self.host_at = self.host_us = None   # lockstep: where the host's CLOCK put the board
         self.moved_by_host = 0                # board time CLOCK moved on (not silence)
@@ -169,13 +178,13 @@ class BoardServer:
         """Bring the board to board-clock `now`: each tick at its own time
         (in lockstep, none while the host has not finished the last)."""
         b, c = self.board, self.clock
-        while b.due is not None and b.due <= now and self.awaiting is None:
+        while b.due is not None and b.due <= now and self.held is None:
             c.catch_up(b.due)
             late = (now - b.due) / CLOCK_HZ
             self.lateness.append(late)
             self.stats["late"] += late > 0.002
             b.service(c)
-        if not self.lockstep or self.safe:
+        if not self.lockstep or not self.host_present:
             c.catch_up(now)        # (in lockstep, serving a host, by ticks and frames only)
         wall = time.monotonic()
         if wall - self.last_sent >= P.HEARTBEAT_MS / 1000:
@@ -185,7 +194,7 @@ class BoardServer:
     def timeout(self):
         """Seconds until the board next needs to run (at most 5 ms)."""
         due = self.board.due
-        if due is None or self.awaiting is not None:
+        if due is None or self.held is not None:
             return 0.005
         return max(0.0, min(0.005, (due - self.clock.now()) / CLOCK_HZ / self.clock.rate))
 
@@ -242,7 +251,7 @@ class BoardServer:
         self.looked_at = wall
         if self.last_valid is not None and stalled > 0:
             self.last_valid += stalled
-        if self.last_valid is not None and not self.safe \
+        if self.last_valid is not None and self.host_present \
                 and wall - self.last_valid > P.WATCHDOG_MS / 1000:
             self.stats["watchdog"] += 1
             self.watchdog_at = self.clock.now()
@@ -251,7 +260,7 @@ class BoardServer:
     def hang_up(self):
         """The host's end closed (TCP) or hung up (pty): safe and quiet at
         once, not 250 ms later."""
-        if self.in_session:
+        if self.host_present:
             self.stats["hangups"] += 1
             self.quiet()
 
@@ -260,8 +269,8 @@ class BoardServer:
         TICK into a host that is not there), board time runs free."""
         self.board.tick_failed()
         self.quiet_at = time.monotonic()     # (bench/relays_off.py)
-        self.safe, self.in_session = True, False
-        self.awaiting, self.done = None, False
+        self.host_present = False
+        self.held = None
         self.clock.release()
 
     def ticking(self):
@@ -290,10 +299,9 @@ class BoardServer:
         results = [(r,) for r in b.port_script(self.script)]
         self.stats["ticks_sent"] += 1
         self.last_tick_frame = self.send("TICK", tick=b.ticks & 0xFFFF, off=xt, results=results)
-        if self.lockstep and not self.safe:
+        if self.lockstep and self.host_present:
             self.host_at = None                  # the ticks are the clock now
-            self.awaiting, self.done = b.ticks & 0xFFFF, False
-            self.held_at = self.clock.clock
+            self.held = HeldTick(b.ticks & 0xFFFF, self.clock.clock)
             self.clock.hold()
 
     def reply(self, message, /, **values):
@@ -303,7 +311,7 @@ class BoardServer:
     def handle(self, f):
         self.last_valid = time.monotonic()
         self.last_valid_clock = self.clock.now()
-        self.safe, self.in_session = False, True
+        self.host_present = True
         if f.error is not None and not f.message.sequenced:
             return                                # an unsequenced misfit: no answer
         if f.name == "HELLO":
@@ -314,14 +322,14 @@ class BoardServer:
         if f.name == "PING":
             return
         if f.name == "WAIT":                          # (lockstep: firmware may ignore it)
-            if self.awaiting is None:                   # held by CLOCK: on to the tick
+            if self.held is None:                       # held by CLOCK: on to the tick
                 if self.ticking():
                     self.clock.release()
                 return
-            if self.done and f["tick"] == (self.awaiting + 1) & 0xFFFF:
-                self.awaiting, self.done = None, False
+            if self.held.done and f["tick"] == (self.held.tick + 1) & 0xFFFF:
+                self.held = None
                 self.clock.release()
-            elif f["tick"] == self.awaiting:            # the host never got that TICK
+            elif f["tick"] == self.held.tick:           # the host never got that TICK
                 self.out += self.last_tick_frame
             return
         if f.name == "NAK":
@@ -347,7 +355,7 @@ class BoardServer:
         self.act(f)
 
     def act(self, f):
-        if self.awaiting is None:                  # not held: the frame's own moment
+        if self.held is None:                      # not held: the frame's own moment
             self.clock.catch_up(self.clock.now())
         b, v = self.board, f.values
         name = f.name
@@ -369,20 +377,21 @@ class BoardServer:
         elif name == "SNAPSHOT":
             self.script = list(v["ops"])
         elif name == "TICK_DONE":
-            if self.awaiting == v["tick"] and not self.done:   # held: the handler's own time
+            held = self.held if self.held is not None and self.held.tick == v["tick"] else None
+            if held is not None and not held.done:       # held: the handler's own time
                 due = b.due if b.due is not None else float("inf")
-                self.clock.catch_up(min(self.held_at + v["us"] * US, due))
+                self.clock.catch_up(min(held.at + v["us"] * US, due))
             for port, value in v["writes"]:
                 b.out8(port, value)
-            if v["final"] and v["tick"] == self.awaiting:
-                self.done = True
+            if v["final"] and held is not None:
+                held.done = True
         elif name == "SAFE":
             b.stop_motors()
         elif name == "CLOCK":                     # (a lockstep board's type only)
             self.host_time(v["us"])
         elif name == "TICK_FAILED":               # no TICK_DONE will come for this tick
             b.tick_failed()
-            self.awaiting, self.done = None, False
+            self.held = None
             self.clock.release()
         self.reply("ACK", ack=f.seq)
 
@@ -397,7 +406,7 @@ class BoardServer:
         self.stats["sessions"] += 1
         self.expected, self.send_seq, self.window = 1, 1, {}
         self.last_reply, self.script = None, []
-        self.awaiting, self.done = None, False
+        self.held = None
         self.host_at = None
         self.clock.release()
         start = self.clock.now()
@@ -418,7 +427,7 @@ class BoardServer:
         TICK, which then holds it), and holds there. Ignored while a tick
         holds the board; the first CLOCK after ticks only sets where the
         host's time is."""
-        if self.awaiting is not None:
+        if self.held is not None:
             return
         if self.host_at is None:
             self.host_at, self.host_us = self.clock.now(), us
@@ -429,7 +438,7 @@ class BoardServer:
         before, jump = self.clock.clock, max(0, self.host_at - self.clock.clock)
         self.moved_by_host += jump
         self.run_until(self.host_at)
-        if self.awaiting is None:
+        if self.held is None:
             self.clock.catch_up(self.host_at)
             self.clock.hold()
         self.moved_by_host += (self.clock.clock - before) - jump
