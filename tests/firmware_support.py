@@ -130,6 +130,19 @@ def parse_note(line):
     return note
 
 
+def raise_the_uno(proc):
+    """The Uno image under simavr stands for a board with a CPU of its own
+    and needs most of a core to keep real time: its process runs at nice
+    -10 where the tests may set that (root). Only it, and one at a time
+    (conftest.py's "uno" group): a raised process may take one core, never
+    both, or the kernel's pty workers (normal priority) wait, and every pty
+    stands still (docs/testing.md)."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, proc.pid, -10)
+    except OSError:
+        pass
+
+
 class BoardProcess:
     """A board program: its first stdout line is its pty's path; later
     lines are event notes, kept (parsed) in `notes`."""
@@ -145,6 +158,8 @@ class BoardProcess:
         self.proc = subprocess.Popen(
             self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
             text=True, bufsize=1)                            # never the terminal's input
+        if pathlib.Path(self.argv[0]).name == "rcl-simavr":
+            raise_the_uno(self.proc)
         ready, _, _ = select.select([self.proc.stdout], [], [], self.startup)
         if not ready:
             self.close()
