@@ -231,3 +231,17 @@ def test_an_inlinable_primitive_has_one_body_its_template():
     with pytest.raises(ValueError, match="made from its inline template"):
         primitives.prim("X", "( a -- a )", inline=("a", ("a",)))(lambda m: None)
     assert "X" not in primitives.BY_NAME
+
+
+def test_a_primitives_kind_is_a_declared_type_and_a_string_is_refused():
+    """@prim's kind is one of primitives.PrimKind (the interpreter tests it
+    by identity); a kind given as a string, a slip that would make every
+    `p.kind is CALL` false, is refused where it is declared."""
+    from rcl.forth.primitives import CALL, PrimKind, prim
+    assert {p.kind for p in REGISTRY[1:]} == set(PrimKind)
+    assert REGISTRY[1].kind in PrimKind
+    before = len(REGISTRY)
+    with pytest.raises(TypeError, match="PrimKind"):
+        prim("NOT-A-WORD", "( -- )", kind="call")
+    assert len(REGISTRY) == before
+    assert CALL is PrimKind.CALL and CALL.value == "call"      # (the image's fingerprint)

@@ -9,6 +9,7 @@ import pytest
 
 import rcl
 from rcl import docgen, wordinfo
+from rcl.forth.primitives import RUNTIME
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -172,7 +173,7 @@ def test_every_entry_of_words_md_is_the_words_own(machine):
         xt, entry = hit[0], wordinfo.lookup(name)
         cf = machine.memory.fetch(xt)
         p = REGISTRY[cf] if cf < PRIM_LIMIT else None
-        if p is not None and (p.kind != "runtime" or p.name == name):   # (BREAK) is a runtime
+        if p is not None and (p.kind is not RUNTIME or p.name == name):   # (BREAK) is a runtime
             if (p.name, wordinfo.split_effect(p.effect)[0]) != (name, effect):
                 wrong.append((name, effect, p.name, p.effect))
             continue

@@ -108,13 +108,13 @@ import types
 
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, PRIM_LIMIT
-from rcl.forth.primitives import HELPERS, REGISTRY
+from rcl.forth.primitives import CALL, HELPERS, LITERAL, REGISTRY, RUNTIME, SIMPLE
 from rcl.forth.compile_block import (WIDE_DPL, BlockGen, BlockState,  # noqa: F401 (WIDE_DPL:
                                      forth_of)                          # core.py)
 from rcl.forth.compile_loops import LoopGen, LoopState
 from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
 from rcl.forth.decode import NO_TERMINATOR, TooLarge, call_depth, decode, walk  # noqa: F401
-from rcl.forth.inner import (COMPILED, CONTROL, N, RSTACK_CELLS,  # (decode: for SEE)
+from rcl.forth.inner import (COMPILED, CONTROL_BY_CF, N, RSTACK_CELLS,  # (decode: for SEE)
                              decode_args)
 
 DOCOL_N = N["(DOCOL)"]
@@ -151,12 +151,12 @@ def checked_step(m, ip):
     xt = mem[ip] | (mem[(ip + 1) & MASK] << 8)
     ip = (ip + 2) & MASK
     cf = mem[xt] | (mem[(xt + 1) & MASK] << 8)
-    op = CONTROL.get(cf)
+    op = CONTROL_BY_CF.get(cf)
     if op is not None:
         m.clock += m.cost[cf]
         return op.run(m, ip)
     p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
-    if p is not None and p.kind == "literal":
+    if p is not None and p.kind is LITERAL:
         m.clock += m.cost[cf]
         args, ip = decode_args(m, p, ip)
         p.fn(m, *args)
@@ -169,9 +169,9 @@ def checked_step(m, ip):
     if p is None:
         raise ForthError(-260)
     m.clock += m.cost[cf]
-    if p.kind == "runtime":
+    if p.kind is RUNTIME:
         return p.fn(m, xt, ip)
-    if p.kind in ("simple", "call"):
+    if p.kind is SIMPLE or p.kind is CALL:
         p.fn(m)
         return ip
     if p.name == "EXECUTE":

@@ -17,9 +17,9 @@ What the compiler does with each kind of instruction is its kind's
 the return stack (`call_depth`, for their overflow check).
 """
 from rcl.forth import compile_kinds as kinds
-from rcl.forth.inner import CONTROL, N, decode_args
+from rcl.forth.inner import CONTROL_BY_CF, N, decode_args
 from rcl.forth.memory import DICT_LIMIT, DICT_START, MASK, PRIM_LIMIT
-from rcl.forth.primitives import DEFAULT_COST, REGISTRY
+from rcl.forth.primitives import CALL, DEFAULT_COST, LITERAL, REGISTRY, RUNTIME, SIMPLE
 
 # No definition has more cells than the dictionary area holds: code that
 # reaches further is a run through data or empty memory (EXECUTE of a wild
@@ -57,7 +57,7 @@ RUNTIME_KINDS = {N["(DOCOL)"]: kinds.COLON, N["(DOVAR)"]: kinds.VAR, N["(DOCON)"
                  N["(DOVALUE)"]: kinds.CON, N["(DO2CON)"]: kinds.TWO_CON,
                  N["(DO2VALUE)"]: kinds.TWO_CON, N["(DODEFER)"]: kinds.DEFER}
 # A primitive's declared kind (primitives.py) -> its cell's, but for runtimes
-PRIM_KINDS = {"simple": kinds.SIMPLE, "call": kinds.CALL}
+PRIM_KINDS = {SIMPLE: kinds.SIMPLE, CALL: kinds.CALL}
 
 
 def decode(m, ip):
@@ -72,17 +72,17 @@ def decode(m, ip):
     if p is None:
         return Instr(ip, xt, kinds.BAD, (), nxt, DEFAULT_COST)
     cost = m.cost[cf]
-    op = CONTROL.get(cf)
+    op = CONTROL_BY_CF.get(cf)
     if op is not None:
         target = None
         if op.target:
             target = fetch(nxt)
             nxt = (nxt + 2) & MASK
         return Instr(ip, xt, kinds.CONTROL[op.name], (), nxt, cost, p, target)
-    if p.kind == "literal":
+    if p.kind is LITERAL:
         args, nxt = decode_args(m, p, nxt)
         return Instr(ip, xt, kinds.LITERAL, args, nxt, cost, p)
-    if p.kind == "runtime":
+    if p.kind is RUNTIME:
         body = (xt + 2) & MASK
         return Instr(ip, xt, RUNTIME_KINDS.get(cf, kinds.RUNTIME_CALL), (body,), nxt, cost, p)
     return Instr(ip, xt, PRIM_KINDS[p.kind], (), nxt, cost, p)

@@ -67,7 +67,7 @@ def fingerprint():
     """What an image depends on: every primitive's number, name and kind,
     and the memory layout."""
     from rcl.forth.machine import USER_VARIABLES
-    table = ["%d %s %s" % (p.number, p.name, p.kind) for p in REGISTRY[1:]]
+    table = ["%d %s %s" % (p.number, p.name, p.kind.value) for p in REGISTRY[1:]]
     table += ["%s %d" % (k, getattr(layout, k)) for k in
               ("USER_AREA", "DICT_START", "DICT_LIMIT", "BLOCK_BUFFERS", "INPUT_AREA")]
     table += USER_VARIABLES

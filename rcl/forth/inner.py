@@ -41,7 +41,7 @@ import os
 from rcl.errors import Bye, ForthError, Terminated, as_forth_error
 from rcl.forth import control, primitives, state, wordloc
 from rcl.forth.memory import MASK, PRIM_LIMIT
-from rcl.forth.primitives import REGISTRY, prim
+from rcl.forth.primitives import CALL, CONTROL, LITERAL, REGISTRY, RUNTIME, SIMPLE, prim
 
 SENTINEL = 0                 # return address meaning "back to Python"
 STACK_CELLS = 1000           # data stack limit (Stack Overflow beyond)
@@ -55,46 +55,46 @@ WORD_FILES = (os.path.join(os.path.dirname(os.path.dirname(__file__)), "words") 
 # ---------------------------------------------------------------- runtimes
 # What a defined word's code field does. fn(m, xt, ret) -> next ip.
 
-@prim("(DOCOL)", kind="runtime", hidden=True)
+@prim("(DOCOL)", kind=RUNTIME, hidden=True)
 def docol(m, xt, ret):
     return m.enter((xt + 2) & MASK, ret)
 
 
-@prim("(DOVAR)", kind="runtime", hidden=True)
+@prim("(DOVAR)", kind=RUNTIME, hidden=True)
 def dovar(m, xt, ret):
     m.s.append((xt + 2) & MASK)
     return ret
 
 
-@prim("(DOCON)", kind="runtime", hidden=True)
+@prim("(DOCON)", kind=RUNTIME, hidden=True)
 def docon(m, xt, ret):
     m.s.append(m.memory.fetch((xt + 2) & MASK))
     return ret
 
 
-@prim("(DO2CON)", kind="runtime", hidden=True)
+@prim("(DO2CON)", kind=RUNTIME, hidden=True)
 def do2con(m, xt, ret):
     m.s.extend(m.memory.dfetch((xt + 2) & MASK))
     return ret
 
 
 # A VALUE runs as a CONSTANT does; its own runtime lets TO tell them apart.
-prim("(DOVALUE)", kind="runtime", hidden=True)(docon)
-prim("(DO2VALUE)", kind="runtime", hidden=True)(do2con)
+prim("(DOVALUE)", kind=RUNTIME, hidden=True)(docon)
+prim("(DO2VALUE)", kind=RUNTIME, hidden=True)(do2con)
 
 
-@prim("(DODEFER)", kind="runtime", hidden=True)
+@prim("(DODEFER)", kind=RUNTIME, hidden=True)
 def dodefer(m, xt, ret):
     return m.call(m.memory.fetch((xt + 2) & MASK), ret)
 
 
-@prim("(DOVOC)", kind="runtime", hidden=True)
+@prim("(DOVOC)", kind=RUNTIME, hidden=True)
 def dovoc(m, xt, ret):
     m.dictionary.set_context_top((xt + 2) & MASK)
     return ret
 
 
-@prim("(DOMARKER)", kind="runtime", hidden=True)
+@prim("(DOMARKER)", kind=RUNTIME, hidden=True)
 def domarker(m, xt, ret):
     m.dictionary.restore_marker((xt + 2) & MASK)
     return ret
@@ -104,9 +104,9 @@ def domarker(m, xt, ret):
 # Their meaning is in control.py (for run_from and the compiler); fn stays None.
 
 for _op in control.OPS:
-    prim(_op.name, _op.effect, kind="control")(None)
+    prim(_op.name, _op.effect, kind=CONTROL)(None)
 
-CONTROL = {p.number: control.BY_NAME[p.name] for p in REGISTRY[1:] if p.kind == "control"}
+CONTROL_BY_CF = {p.number: control.BY_NAME[p.name] for p in REGISTRY[1:] if p.kind is CONTROL}
 N = {p.name: p.number for p in REGISTRY[1:]}
 DOCOL = N["(DOCOL)"]
 
@@ -205,9 +205,9 @@ class Inner:
         if p is None:
             raise ForthError(-260)
         self.clock += self.cost[cf]
-        if p.kind == "runtime":
+        if p.kind is RUNTIME:
             return p.fn(self, xt, ret)
-        if p.kind in ("simple", "call"):
+        if p.kind is SIMPLE or p.kind is CALL:
             p.fn(self)
             return ret
         if p.name == "EXECUTE":
@@ -266,10 +266,10 @@ class Inner:
             xt = fetch(ip)
             ip = (ip + 2) & MASK
             cf = fetch(xt)
-            op = CONTROL.get(cf)
+            op = CONTROL_BY_CF.get(cf)
             if op is None:
                 p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
-                if p is not None and p.kind == "literal":
+                if p is not None and p.kind is LITERAL:
                     if self.clock >= self.deadline:
                         self.housekeep()
                     self.clock += self.cost[cf]

@@ -21,14 +21,7 @@ so what runs one primitive at a time and what runs compiled cannot differ:
 A primitive's number is its index in REGISTRY; that number is what its code
 field holds in memory (so numbers stay below memory.PRIM_LIMIT).
 
-Kinds:
-  simple   fn(m); static cost; may be inlined by the compiler.
-  literal  fn(m, *args) with `args` inline cells decoded by `decode`.
-  control  branches, loops, EXIT: the inner interpreter and compiler know
-           each by name; fn is None.
-  call     fn(m) may run Forth code, change the clock or the interrupt
-           deadline: the compiler ends a block after it.
-  runtime  what a code field of a defined word does (DOCOL, DOVAR, ...).
+Kinds (`PrimKind`, below): how the inner interpreter runs a primitive.
 The compiler's kinds of instruction (compile_kinds.py) are made from these
 once, where decode.py decodes a cell.
 
@@ -41,11 +34,30 @@ here, and an unknown name is refused at registration. The compiler fills in
 a parsed template by formatting (`Template`), never by editing text.
 """
 import ast
+import enum
 import sys
 import types
 from dataclasses import dataclass, field
 
 from rcl.board import CLOCK_HZ  # noqa: F401  (the unit lives with the board interface)
+
+
+
+class PrimKind(enum.Enum):
+    """How the inner interpreter runs a primitive, as @prim declares it."""
+    SIMPLE = "simple"     # fn(m); static cost; may be inlined by the compiler
+    LITERAL = "literal"   # fn(m, *args): `args` inline cells decoded by `decode`
+    CONTROL = "control"   # a branch, loop or EXIT: the interpreter and the compiler
+                          # know each by name (control.py); fn is None
+    CALL = "call"         # fn(m) may run Forth code, change the clock or the interrupt
+                          # deadline: the compiler ends a block after it
+    RUNTIME = "runtime"   # fn(m, xt, ip): what a defined word's code field does (DOCOL, ...)
+
+
+# The kinds as plain names: declarations read `kind=CALL`, and the inner
+# interpreter tests `p.kind is RUNTIME` on every call (a module global is
+# read several times faster than an attribute of an Enum class).
+SIMPLE, LITERAL, CONTROL, CALL, RUNTIME = PrimKind
 
 HELPERS = {}                 # functions inline templates may call, by name
 LOCALS = ("m", "s", "rs", "mem", "W")   # what compiled code binds, templates may use
@@ -61,7 +73,7 @@ class Prim:
     name: str
     effect: str
     fn: object
-    kind: str = "simple"
+    kind: PrimKind = PrimKind.SIMPLE
     cost: int = DEFAULT_COST
     immediate: bool = False
     inline: tuple = None
@@ -193,7 +205,7 @@ REGISTRY = [None]            # number 0 is never a valid code field
 BY_NAME = {}
 
 
-def prim(name, effect="", *, kind="simple", cost=DEFAULT_COST, immediate=False,
+def prim(name, effect="", *, kind=SIMPLE, cost=DEFAULT_COST, immediate=False,
          inline=None, args=0, decode=None, hidden=False, wordlist="FORTH",
          memory=False, key=None):
     """Register the decorated function as the primitive `name`.
@@ -203,6 +215,9 @@ def prim(name, effect="", *, kind="simple", cost=DEFAULT_COST, immediate=False,
     the primitive has no Python body of its own: register None, and the
     body is made from the template.
     """
+    if not isinstance(kind, PrimKind):
+        raise TypeError("%s: kind must be a primitives.PrimKind, not %r" % (name, kind))
+
     def register(fn):
         template = Template(name, inline) if inline is not None else None
         if template is not None:

@@ -33,9 +33,9 @@ from typing import List, Optional, Tuple
 
 from rcl.board import NullBoard
 from rcl.errors import ForthError
-from rcl.forth.inner import CONTROL, N, RSTACK_CELLS, SENTINEL, decode_args
+from rcl.forth.inner import CONTROL_BY_CF, N, RSTACK_CELLS, SENTINEL, decode_args
 from rcl.forth.memory import MASK, signed
-from rcl.forth.primitives import REGISTRY
+from rcl.forth.primitives import LITERAL, REGISTRY
 
 STEP, INTO, OVER, FINISH, CONTINUE = "step", "into", "over", "finish", "continue"
 BREAKS = ("(BREAK)", '(BREAK")')       # the cells BREAK: and BREAK" compile
@@ -162,9 +162,9 @@ class Stepper:
         xt = self.fetch(ip)
         cf = self.code_field(xt)
         nxt = (ip + 2) & MASK
-        op = CONTROL.get(cf)
+        op = CONTROL_BY_CF.get(cf)
         p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
-        if op is None and p is not None and p.kind == "literal":
+        if op is None and p is not None and p.kind is LITERAL:
             if m.clock >= m.deadline:
                 m.housekeep()
             m.clock += m.cost[cf]
@@ -217,11 +217,11 @@ class Stepper:
         """Does the cell at ip run without a step (a literal, a control
         operation other than EXECUTE, a BREAK: passed: the view names it)?"""
         cf = self.code_field(self.fetch(self.ip))
-        op = CONTROL.get(cf)
+        op = CONTROL_BY_CF.get(cf)
         if op is not None:
             return op.name != "EXECUTE"
         p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
-        return p is not None and (p.kind == "literal" or p.name in BREAKS)
+        return p is not None and (p.kind is LITERAL or p.name in BREAKS)
 
     def at_break(self):
         cf = self.code_field(self.fetch(self.ip))

@@ -23,7 +23,7 @@ from rcl.errors import ForthError, RclError
 from rcl.forth.memory import BLOCK_BUFFERS, MASK, signed
 from rcl.forth.outer import Source
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.words.compiling import parse_word
 
 BLOCK = 1024
@@ -331,13 +331,13 @@ def empty_buffers(m):
     bf(m).buffers = [[None, False] for _ in range(NBUF)]
 
 
-@prim("LOAD", "( n -- ) interpret block n", kind="call")
+@prim("LOAD", "( n -- ) interpret block n", kind=CALL)
 def load(m):
     need(m, 1)
     bf(m).load(m.s.pop())
 
 
-@prim("THRU", "( first last -- ) load a range of blocks", kind="call")
+@prim("THRU", "( first last -- ) load a range of blocks", kind=CALL)
 def thru(m):
     need(m, 2)
     last, first = m.s.pop(), m.s.pop()
@@ -346,7 +346,7 @@ def thru(m):
 
 
 @prim("+THRU", "( lo hi -- ) load blocks relative to the one being loaded",
-      kind="call")
+      kind=CALL)
 def plus_thru(m):
     need(m, 2)
     hi, lo = m.s.pop(), m.s.pop()

@@ -18,7 +18,7 @@ from rcl.errors import ForthError
 from rcl.forth import inner, state
 from rcl.forth.dictionary import HIDDEN, IMMEDIATE
 from rcl.forth.memory import MASK, signed
-from rcl.forth.primitives import BY_NAME, prim
+from rcl.forth.primitives import BY_NAME, LITERAL, RUNTIME, prim
 
 ORIG, DEST, DO_SYS, CASE_SYS, OF_SYS = 0x7F01, 0x7F02, 0x7F03, 0x7F04, 0x7F05
 
@@ -315,7 +315,7 @@ prim("2LITERAL", "( d -- ) compile d", immediate=True)(_dliteral)
 
 
 @prim("COMPILE", "( -- ) compile the xt that follows in the caller's code",
-      kind="literal", args=1)
+      kind=LITERAL, args=1)
 def compile_next(m, xt):
     m.dictionary.comma(xt)
 
@@ -538,7 +538,7 @@ def code(m):
         if not tok and not m.refill():
             break
     p = BY_NAME.get(name.upper())
-    if p is None or p.kind == "runtime":
+    if p is None or p.kind is RUNTIME:
         raise ForthError(-263, "No CODE for " + name.upper())
     m.dictionary.create(name, p.number)
     m.xt_of.setdefault(p.name, m.dictionary.last + 2)

@@ -10,7 +10,7 @@ for the template form).
 from rcl.forth.memory import MASK, signed
 from rcl.forth.compiler import HELPERS, WIDE_DPL
 from rcl.forth.control import DROP_FRAME, FRAME_CELLS, INDEX, LIMIT, frame_cell, index_of
-from rcl.forth.primitives import prim, BY_NAME
+from rcl.forth.primitives import BY_NAME, LITERAL, prim
 
 T = "0xFFFF"                   # a true flag
 
@@ -33,13 +33,13 @@ def _lit_decode_rd(m, ip):
     return (f(ip), f(ip + 2), f(ip + 4)), (ip + 6) & MASK
 
 
-@prim("LIT", "( -- n ) push the inline cell", kind="literal", args=1)
+@prim("LIT", "( -- n ) push the inline cell", kind=LITERAL, args=1)
 def lit(m, n):
     m.s.append(n)
 
 
 @prim("(RLIT)", "( -- n ) push the inline cell, DPL := -1 (RCL literal)",
-      kind="literal", args=1)
+      kind=LITERAL, args=1)
 def rlit(m, n):
     m.s.append(n)
     m.memory.store(m.a_dpl, MASK)
@@ -47,7 +47,7 @@ def rlit(m, n):
 
 
 @prim("(RWLIT)", "( -- n ) push the inline cell, DPL := -1, WIDE-NUMBER on: "
-      "a literal typed beyond a signed cell (RCL literal)", kind="literal", args=1)
+      "a literal typed beyond a signed cell (RCL literal)", kind=LITERAL, args=1)
 def rwlit(m, n):
     m.s.append(n)
     m.memory.store(m.a_dpl, MASK)
@@ -55,7 +55,7 @@ def rwlit(m, n):
 
 
 @prim("(RDLIT)", "( -- d ) push the inline double, DPL := its compile-time DPL",
-      kind="literal", args=3)
+      kind=LITERAL, args=3)
 def rdlit(m, lo, hi, dpl):
     m.s.extend((lo, hi))
     m.memory.store(m.a_dpl, dpl)

@@ -28,7 +28,7 @@ from rcl.errors import ForthError
 from rcl.forth import stepper, wordloc
 from rcl.forth.inner import SENTINEL
 from rcl.forth.memory import MASK
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import RUNTIME, prim
 from rcl.words.compiling import compiling, parse_word, tick
 from rcl.words.io import lay_string, next_key, quoted
 from rcl.words.rclcode import idle_rule
@@ -185,13 +185,13 @@ def stop_here(m, ret, label):
 
 
 @prim("(BREAK)", "( -- ) BREAK: compiled: the stepping view, if BREAKS is on",
-      kind="runtime", cost=0)
+      kind=RUNTIME, cost=0)
 def paren_break(m, xt, ret):
     return stop_here(m, ret, stepper.break_label())
 
 
 @prim("(BREAK\")", "( addr u -- ) BREAK\" compiled, after its text: the "
-      "stepping view, named, if BREAKS is on", kind="runtime")
+      "stepping view, named, if BREAKS is on", kind=RUNTIME)
 def paren_break_quote(m, xt, ret):
     return stop_here(m, ret, stepper.break_label(stepper.break_text(m)))
 
@@ -221,7 +221,7 @@ def tilde_text(m, file, line, word):
     return "\n~~ %s%s  %s\n" % (place, " " + word if word else "", stack_text(m.stack))
 
 
-@prim("(~~)", "( -- ) ~~ compiled: show where and the stack", kind="runtime")
+@prim("(~~)", "( -- ) ~~ compiled: show where and the stack", kind=RUNTIME)
 def paren_tilde(m, xt, ret):
     cell = (ret - 2) & MASK
     file, line = m.locations.at(cell)

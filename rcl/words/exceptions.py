@@ -6,13 +6,13 @@ puts the stacks back to their depths at CATCH and pushes the code.
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, signed
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 
 # The message of the last ABORT" CATCH caught, for THROW -2: the session's.
 state.session("abort_message", lambda m: "")
 
 
-@prim("CATCH", "( i*x xt -- j*x 0 | i*x n ) run xt; catch what it throws", kind="call")
+@prim("CATCH", "( i*x xt -- j*x 0 | i*x n ) run xt; catch what it throws", kind=CALL)
 def catch(m):
     xt = m.s.pop()
     depth, rdepth, nsrc = len(m.s), len(m.rs), len(m.sources)

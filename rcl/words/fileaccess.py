@@ -17,7 +17,7 @@ import os
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.words.core import pop2, push2
 
 R_O, W_O, R_W, BIN = 1, 2, 3, 4
@@ -301,7 +301,7 @@ def write_line(m):
 
 # --------------------------------------------------------------- including
 @prim("INCLUDE-FILE", "( fileid -- ) interpret the rest of the open file, then close it",
-      kind="call")
+      kind=CALL)
 def include_file(m):
     fid = m.s.pop()
     f = files(m).get(fid)

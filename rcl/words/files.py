@@ -9,7 +9,7 @@ import os
 
 from rcl.errors import ForthError, open_source
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 
 # The folder RCL's screens were loaded from (rcl.open sets it; None: the
 # installed ones), where INCLUDE looks last: the session's.
@@ -50,23 +50,23 @@ def require_file(m, name):
         include_file(m, name)
 
 
-@prim("INCLUDE", "( -- ) load the file named next", kind="call")
+@prim("INCLUDE", "( -- ) load the file named next", kind=CALL)
 def include(m):
     include_file(m, parse_word(m))
 
 
-@prim("INCLUDED", "( addr u -- ) load the file named by the string", kind="call")
+@prim("INCLUDED", "( addr u -- ) load the file named by the string", kind=CALL)
 def included(m):
     u, a = m.s.pop(), m.s.pop()
     include_file(m, m.memory.text(a, u))
 
 
-@prim("REQUIRE", "( -- ) load the file named next unless it was loaded", kind="call")
+@prim("REQUIRE", "( -- ) load the file named next unless it was loaded", kind=CALL)
 def require(m):
     require_file(m, parse_word(m))
 
 
-@prim("REQUIRED", "( addr u -- ) load the named file unless it was loaded", kind="call")
+@prim("REQUIRED", "( addr u -- ) load the named file unless it was loaded", kind=CALL)
 def required(m):
     u, a = m.s.pop(), m.s.pop()
     require_file(m, m.memory.text(a, u))

@@ -4,7 +4,7 @@ comments and the primitives' declarations), imported when first asked
 for, since it reads the machine's own tables."""
 from rcl.errors import ForthError
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 
 # Where the documented words end (rcl.open sets it once RCL is loaded;
 # None: FENCE): HELP says a word defined after it is defined again.
@@ -49,7 +49,7 @@ def columns(m):
 
 
 @prim("HELP", "( \"name\" -- ) a word's stack effect, where it is from and what it "
-              "does; alone, how to start", kind="call")
+              "does; alone, how to start", kind=CALL)
 def help_word(m):
     from rcl import wordinfo
     name, _ = m.parse_name()
@@ -70,7 +70,7 @@ def help_word(m):
 
 
 @prim("RCL-WORDS", "( -- ) RCL's words, layer by layer, as each screen lists them",
-      kind="call")
+      kind=CALL)
 def rcl_words(m):
     from rcl import wordinfo
     width = columns(m)

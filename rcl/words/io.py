@@ -7,7 +7,7 @@ collects for `evaluate`. Numbers print in BASE with upper-case digits.
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK, PAD_OFFSET, signed
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import LITERAL, prim
 from rcl.words.compiling import compile_only
 from rcl.words.core import pop2
 from rcl.words.double import ds
@@ -203,7 +203,7 @@ def decode_counted(m, ip):
 
 
 def string_prim(name, effect):
-    return prim(name, effect, kind="literal", decode=decode_counted)
+    return prim(name, effect, kind=LITERAL, decode=decode_counted)
 
 
 @string_prim("(.\")", "( -- ) type the inline string")

@@ -25,7 +25,7 @@ every word; ; and TO know them too (compiling.py).
 from functools import lru_cache
 
 from rcl.errors import ForthError
-from rcl.forth.primitives import BY_NAME, Template, prim
+from rcl.forth.primitives import BY_NAME, LITERAL, Template, prim
 from rcl.words.compiling import DO_SYS, compile_name, compile_only, parse_word
 
 MAX_LOCALS = 32
@@ -34,7 +34,7 @@ LETTERS = "abcdefghijkl"          # input names for the frame's inline template
 
 # ---------------------------------------------------------------- runtimes
 @prim("(LOCALS)", "( x1 .. xn -- ) R: ( -- x1 .. xn 0 .. 0 ) a locals frame: "
-      "n from the stack, u zeros", kind="literal", args=2)
+      "n from the stack, u zeros", kind=LITERAL, args=2)
 def paren_locals(m, n, u):
     s = m.s
     if n > len(s):
@@ -45,19 +45,19 @@ def paren_locals(m, n, u):
 
 
 @prim("(LOCAL@)", "( -- x ) the local k cells down the return stack",
-      kind="literal", args=1)
+      kind=LITERAL, args=1)
 def paren_local_fetch(m, k):
     m.s.append(m.rs[-k])
 
 
 @prim("(LOCAL!)", "( x -- ) store into the local k cells down the return stack",
-      kind="literal", args=1)
+      kind=LITERAL, args=1)
 def paren_local_store(m, k):
     m.rs[-k] = m.s.pop()
 
 
 @prim("(UNLOCALS)", "( -- ) R: ( frame -- ) drop a locals frame of n cells",
-      kind="literal", args=1)
+      kind=LITERAL, args=1)
 def paren_unlocals(m, n):
     del m.rs[len(m.rs) - n:]
 

@@ -32,7 +32,7 @@ import sys
 from rcl.board import CLOCK_HZ
 from rcl.forth import state, wordloc
 from rcl.forth.memory import MASK, dsigned, signed
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.robot import (ARM_DOWN, ARM_ON, AUX_PORT, GRIP_CLOSE, GRIP_ON, M1_GO, M1_REV,
                        M2_GO, M2_REV, MOTOR_PORT)
 
@@ -263,7 +263,7 @@ def describe(mv):
 
 
 @prim(".MOVES", "( -- ) the last 20 moves (1000 are kept): the words that commanded "
-      "each, its distance, speed, breakpoints, times and poses", kind="call")
+      "each, its distance, speed, breakpoints, times and poses", kind=CALL)
 def dot_moves(m):
     log = m.moves
     shown = list(log.moves)[-SHOWN:]

@@ -4,7 +4,7 @@ from rcl.errors import ForthError
 from rcl.forth.dictionary import IMMEDIATE
 from rcl.forth.memory import MASK, signed
 from rcl.forth.numbers import convert, digit
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.words.core import pop2, push2
 
 
@@ -87,7 +87,7 @@ def tib(m):
     m.s.append(m.sources[0].buf)
 
 
-@prim("QUERY", "( -- ) read a line from the terminal into TIB", kind="call")
+@prim("QUERY", "( -- ) read a line from the terminal into TIB", kind=CALL)
 def query(m):
     from rcl.words.io import read_line
     m.sources[0].lines = iter([read_line(m)])
@@ -96,13 +96,13 @@ def query(m):
     m.refill()
 
 
-@prim("INTERPRET", "( -- ) interpret the rest of the current input", kind="call")
+@prim("INTERPRET", "( -- ) interpret the rest of the current input", kind=CALL)
 def interpret(m):
     m.interpret()
 
 
 @prim("REFILL", "( -- f ) the next line of the input source; in a block, "
-      "the next block", kind="call")
+      "the next block", kind=CALL)
 def refill(m):
     blk = m.memory.fetch(m.a_blk)
     if blk and m.src.kind == "block":
@@ -140,7 +140,7 @@ def restore_input(m):
     m.s.append(0)
 
 
-@prim("EVALUATE", "( addr u -- ) interpret the string", kind="call")
+@prim("EVALUATE", "( addr u -- ) interpret the string", kind=CALL)
 def evaluate(m):
     u, a = m.s.pop(), m.s.pop()
     m.evaluate_string(a, u)

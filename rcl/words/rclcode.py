@@ -31,7 +31,7 @@ import struct
 from rcl.board import FORTH_CS, IN8, OUT8
 from rcl.errors import ForthError
 from rcl.forth.memory import MASK
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.i80188 import (EN, INT, PCB_BASE, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK,
                         VECTOR_USER_TICK, vector_address)
 
@@ -170,7 +170,7 @@ def idle_rule(m):
 
 
 @prim("(MS)", "( n -- ) Listing 3's MS in virtual time: 37 primitives a "
-      "millisecond, interrupts stealing time as they would", hidden=True, kind="call")
+      "millisecond, interrupts stealing time as they would", hidden=True, kind=CALL)
 def paren_ms(m):
     # : MS  0 ?DO 33 0 DO LOOP LOOP ;  costs 4 + 37n primitives; `: MS (MS) ;`
     # already spent 3 (the call, (MS) itself, EXIT), so spend the rest.
@@ -180,7 +180,7 @@ def paren_ms(m):
 
 
 @prim("(SKIP-TO-TICK)", "( d -- ) let the time of day run to BIOS tick d at once, "
-      "INT 1Ch idle (only when nothing moves)", hidden=True, kind="call")
+      "INT 1Ch idle (only when nothing moves)", hidden=True, kind=CALL)
 def skip_to_tick(m):
     hi, lo = m.s.pop(), m.s.pop()
     if m.fast_forward is not None:    # else the waiting loop waits tick by tick

@@ -2,12 +2,12 @@
 the file's layout is rcl/forth/image.py's). `rcl --image FILE` starts
 from it."""
 from rcl.errors import ForthError
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.words.compiling import parse_word
 
 
 @prim("SAVE-SYSTEM", "( -- ) write the whole system image to the file named next",
-      kind="call")
+      kind=CALL)
 def save_system(m):
     from rcl.forth import image         # hashlib, zlib, json: only when saving
     name = parse_word(m)

@@ -2,7 +2,7 @@
 ?DURATION (a wait's count checked)."""
 from rcl.errors import Bye, ForthError
 from rcl.forth.memory import MASK
-from rcl.forth.primitives import CLOCK_HZ, prim
+from rcl.forth.primitives import CALL, CLOCK_HZ, prim
 
 ENVIRONMENT = {
     "/COUNTED-STRING": [255], "/HOLD": [255], "/PAD": [84],
@@ -35,7 +35,7 @@ def pause(m):
     pass
 
 
-@prim("MS", "( u -- ) wait u milliseconds of virtual time (F83's delay)", kind="call")
+@prim("MS", "( u -- ) wait u milliseconds of virtual time (F83's delay)", kind=CALL)
 def ms(m):
     m.advance_to(m.clock + m.s.pop() * (CLOCK_HZ // 1000))
 
@@ -55,7 +55,7 @@ def clock_fetch(m):
     m.s.extend((us & MASK, us >> 16))
 
 
-@prim("HALT", "( -- ) wait for the next interrupt, as the 80188's HLT does", kind="call")
+@prim("HALT", "( -- ) wait for the next interrupt, as the 80188's HLT does", kind=CALL)
 def halt(m):
     due = getattr(m.irq, "due", None) if m.irq is not None else None
     if due is not None and not m.masked:

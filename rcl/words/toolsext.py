@@ -14,7 +14,7 @@ from rcl.errors import ForthError
 from rcl.forth import inner
 from rcl.forth.dictionary import HIDDEN, IMMEDIATE
 from rcl.forth.memory import MASK
-from rcl.forth.primitives import REGISTRY, prim
+from rcl.forth.primitives import CALL, REGISTRY, RUNTIME, prim
 from rcl.words.compiling import parse_word, tick
 
 
@@ -41,13 +41,13 @@ def skip_to(m, stop_at_else):
 
 
 @prim("[IF]", "( f -- ) go on if f is true, else skip to the matching [ELSE] or [THEN]",
-      immediate=True, kind="call")
+      immediate=True, kind=CALL)
 def bracket_if(m):
     if not m.s.pop():
         skip_to(m, stop_at_else=True)
 
 
-@prim("[ELSE]", "( -- ) skip to the matching [THEN]", immediate=True, kind="call")
+@prim("[ELSE]", "( -- ) skip to the matching [THEN]", immediate=True, kind=CALL)
 def bracket_else(m):
     skip_to(m, stop_at_else=False)
 
@@ -96,7 +96,7 @@ def synonym(m):
     d = m.dictionary
     cf = m.memory.fetch(xt)
     p = REGISTRY[cf] if 0 < cf < len(REGISTRY) else None
-    if p is not None and p.kind != "runtime":
+    if p is not None and p.kind is not RUNTIME:
         d.create(new, cf)                    # a primitive: the same code field
     else:                                    # anything else: run it through a vector
         d.create(new, inner.N["(DODEFER)"])  # (no call frame of its own: R> works)
@@ -107,7 +107,7 @@ def synonym(m):
 
 # -------------------------------------------------------------- name tokens
 @prim("TRAVERSE-WORDLIST", "( i*x xt wid -- j*x ) run xt ( k*x nt -- l*x f ) on each "
-      "word of wid, newest first, until it gives false", kind="call")
+      "word of wid, newest first, until it gives false", kind=CALL)
 def traverse_wordlist(m):
     wid, xt = m.s.pop(), m.s.pop()
     d = m.dictionary

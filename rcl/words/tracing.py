@@ -19,7 +19,7 @@ import csv
 
 from rcl.errors import ForthError
 from rcl.forth import state
-from rcl.forth.primitives import prim
+from rcl.forth.primitives import CALL, prim
 from rcl.safefile import write_atomically
 from rcl.words.compiling import parse_word
 
@@ -89,23 +89,23 @@ def plot_to(m, name, title=None):
         raise ForthError(-37, str(e)) from None
 
 
-@prim("TRACE-ON", "( -- ) start a fresh trace of the board", kind="call")
+@prim("TRACE-ON", "( -- ) start a fresh trace of the board", kind=CALL)
 def trace_on(m):
     start_trace(m)
 
 
-@prim("TRACE-OFF", "( -- ) stop tracing; PLOT still draws what was kept", kind="call")
+@prim("TRACE-OFF", "( -- ) stop tracing; PLOT still draws what was kept", kind=CALL)
 def trace_off(m):
     stop_trace(m)
 
 
-@prim("PLOT", "( -- ) draw the trace so far to the file named next", kind="call")
+@prim("PLOT", "( -- ) draw the trace so far to the file named next", kind=CALL)
 def plot_word(m):
     plot_to(m, parse_word(m))
 
 
 @prim("SAVE-TRACE", "( -- ) write the trace so far as CSV to the file named next",
-      kind="call")
+      kind=CALL)
 def save_trace(m):
     name, rec = parse_word(m), kept(m)
 
