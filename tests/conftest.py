@@ -9,6 +9,8 @@ import tempfile
 
 import pytest
 
+import suite_size
+
 pytest_plugins = ["pytester"]
 _cache = None
 
@@ -37,6 +39,18 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.real_time)
         uno = any(part in item.nodeid for part in ONE_UNO_AT_A_TIME)
         item.add_marker(pytest.mark.xdist_group("uno" if uno else item.nodeid.split("::")[0]))
+
+
+def pytest_xdist_auto_num_workers(config):
+    """-n auto (pyproject.toml): a worker more than the cores by default,
+    since about half of a worker's time is spent waiting on real-time
+    boards and pty children (on 2 cores the default run took 4 min 24 s
+    with two workers, 3 min 34 s with three, the same day); in CI two, as
+    every busy-machine run of docs/testing.md was measured."""
+    if suite_size.FULL:
+        return 2
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return (cores or 1) + 1
 
 
 @pytest.fixture(autouse=True)

@@ -16,7 +16,7 @@ import pytest
 from firmware_support import (BUILD, FIRST_COMMAND, PER_MOVE, RawLink, build, connect, counts,
                               simulated, uno_image, within)
 from firmware_support import native_board, simavr  # noqa: F401 (fixtures)
-from suite_size import FULL
+from suite_size import FULL, scaled
 
 CORE_TEST = BUILD / "core-test"
 
@@ -215,10 +215,11 @@ def test_a_host_that_stops_reading_never_stops_the_board(raw):
         seq += 1
     assert link.ask(seq, "OUT16", port=0xFF52, value=1667).name == "ACK"   # 2.5 ms
     assert link.ask(seq + 1, "OUT8", port=0x88, value=0x01).name == "ACK"
-    # Not read for about 80 s of board time, the watchdog fed all the while
-    # (PING every 10 ms of wall time, 100 ms of the board's): a host that
-    # only stopped reading is still there. Then silence: the watchdog.
-    end = time.monotonic() + 8
+    # Not read for about 80 s of board time (30 s by default: the pty is
+    # full within the first), the watchdog fed all the while (PING every
+    # 10 ms of wall time, 100 ms of the board's): a host that only stopped
+    # reading is still there. Then silence: the watchdog.
+    end = time.monotonic() + scaled(8, 3)
     while time.monotonic() < end:
         link.frame(0, "PING")
         time.sleep(0.01)

@@ -90,6 +90,30 @@ def test_listing_1_drives_the_square_as_the_simulated_board(native_board, host):
     assert m.board.skipped == 0                 # every tick's handler ran
 
 
+def test_a_host_away_between_two_ticks_is_waited_for_and_runs_every_tick(native_board, host):
+    # The host answers a tick, then does not look for 0.4 s (a busy
+    # machine, a long compile). The next TICK waits in the queue; the
+    # board holds its time 3 ms after it and sends a HEARTBEAT every 10 ms,
+    # 40 of them queued behind that one TICK. That is one tick of backlog,
+    # not 41: it must run (before, it was counted skipped, its handler
+    # never run), and the move end as the simulated board's.
+    b = native_board("--rate", 1)
+    m = host(b.path)
+    run_tick, seen = m.board.run_tick, []
+
+    def away_once(machine, event):
+        done = run_tick(machine, event)
+        seen.append(event["tick"])
+        if len(seen) == 50:                     # mid-move, at speed
+            time.sleep(0.4)
+        return done
+    m.board.run_tick = away_once
+    assert m.evaluate(FIRST_COMMAND) == ""
+    got = counts(m)
+    assert len(seen) > 100 and m.board.skipped == 0
+    assert within(got, simulated(FIRST_COMMAND), PER_MOVE)
+
+
 # --------------------------------------------------------------- the link
 def test_corrupted_and_dropped_bytes_both_ways_change_no_count(native_board, host):
     b = native_board("--rate", 2)

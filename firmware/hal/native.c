@@ -9,10 +9,13 @@
  * (default 1) in 1 ms steps, and never catches up: after a stall (the
  * process not scheduled) it goes on from where it was, as if the board
  * had been paused, so no tick is ever due that the host could not have
- * answered. Nor does it run a tick ahead of the host: tick n+1 waits
- * until the host has finished tick n (its final TICK_DONE), for at most
- * HOLD_MAX_US of wall time, and not once the watchdog has tripped. A
- * host that keeps up (a round trip is about 1 ms) never meets the wait,
+ * answered. Nor does it run far ahead of the host: past HOST_SLACK_US of
+ * board time after a TICK, it waits until the host has finished that
+ * tick (its final TICK_DONE), for at most HOLD_MAX_US of wall time, and
+ * not once the watchdog has tripped; so the handler's writes land within
+ * HOST_SLACK_US of their tick however slow the host (as rcl-simavr's
+ * harness holds the Uno). A host that keeps up (a round trip over the
+ * pty is about 1 ms) never meets the wait,
  * and the board runs free as firmware on a microcontroller does; a host
  * stalled by a busy machine finds the board where it left it, its
  * watchdog (board time) not tripped by the wait. HEARTBEATs keep to the
@@ -39,6 +42,8 @@
 #define STEP_US 1000u               /* physics and speed-loop step */
 #define MAX_BEHIND_US 2000.0        /* more behind than this is dropped, not caught up */
 #define HOLD_MAX_US 1000000.0       /* the host's own give-up time for an answer */
+#define HOST_SLACK_US 3000u         /* board time a host may take to answer a TICK
+                                       before the board waits for it */
 
 static struct {
     int master, slave;
@@ -55,6 +60,7 @@ static struct {
     int host_gone;                  /* a wait ran out, or the watchdog tripped */
     uint16_t waiting_tick;
     double waiting_since;           /* wall us */
+    uint32_t waiting_from;          /* board time (us) the TICK was sent at */
     unsigned long holds;            /* steps a tick waited for the host */
     motor wheel[2];
     double drive[2];
@@ -128,11 +134,19 @@ void hal_init(void)
 
 /* ------------------------------------------------------------- time */
 
-/* The next tick is due in this step, and the host has not finished the
- * last one: wait for it (a bounded time). */
+/* The host owes the last TICK's answer, and the board has gone on for
+ * HOST_SLACK_US since (or the next tick is due within this step). */
+static int owed(void)
+{
+    return n.waiting && n.period_half
+        && (n.now_us - n.waiting_from >= HOST_SLACK_US
+            || n.tick_left_half <= 2 * STEP_US);
+}
+
+/* Wait for the host's answer (a bounded time). */
 static int held(double wall)
 {
-    if (!n.waiting || !n.period_half || n.tick_left_half > 2 * STEP_US)
+    if (!owed())
         return 0;
     if (wall - n.waiting_since > HOLD_MAX_US) {
         n.waiting = 0;              /* the host has gone: run free until it answers */
@@ -145,7 +159,7 @@ static int held(double wall)
 
 uint8_t hal_holding(void)
 {
-    return (uint8_t)(n.waiting && n.period_half && n.tick_left_half <= 2 * STEP_US);
+    return (uint8_t)owed();
 }
 
 static void step(void)
@@ -329,6 +343,7 @@ static int pacing_note(uint8_t event, uint32_t value)
         n.waiting = 1;
         n.waiting_tick = (uint16_t)value;
         n.waiting_since = wall_us();
+        n.waiting_from = n.now_us;
     } else if (event == NOTE_TICK_DONE) {
         n.host_gone = 0;            /* the host is here again */
         if ((uint16_t)value == n.waiting_tick)

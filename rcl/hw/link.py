@@ -578,10 +578,15 @@ class LinkBoard(Board):
     def next_event(self, block):
         """The next TICK or HEARTBEAT (None: none waiting, when not to
         block); a backlog beyond BACKLOG ticks (the host was away, at the
-        prompt) is counted, not run."""
-        while self.events.qsize() > BACKLOG:
+        prompt) is counted, not run. Only TICKs count: a board that waits
+        for our answer sends HEARTBEATs meanwhile (the native board one
+        every 10 ms), and a host slow on one tick is not 25 ticks behind."""
+        with self.events.mutex:
+            ticks = sum(f.name == "TICK" for f in self.events.queue)
+        while ticks > BACKLOG:
             f = self.events.get()
             if f.name == "TICK":
+                ticks -= 1
                 self.skipped += 1
                 self.sent_writes.extend(self.replay.script_writes())
         waited = 0.0
