@@ -46,9 +46,8 @@
 #define MAX_LAG_US 20000      /* further behind than this: re-base */
 #define HOST_SLACK_US 5000    /* a host answers a TICK within this (measured: 3-4 ms
                                  at 115200 on an idle machine), or is waited for */
-#define HOLD_MAX_S 0.15       /* the longest the board is kept silent by a hold
-                                 (a held AVR sends no HEARTBEAT): well inside
-                                 the host's 250 ms "no frame" limit */
+#define HOLD_MAX_S 0.05       /* the longest the board is kept silent by a hold:
+                                 its HEARTBEAT period, as the protocol promises */
 
 typedef struct options {
     const char *elf;
