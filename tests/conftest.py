@@ -6,6 +6,7 @@ import os
 import shutil
 import signal
 import tempfile
+import time
 
 import pytest
 
@@ -42,15 +43,35 @@ def pytest_collection_modifyitems(config, items):
 
 
 def pytest_xdist_auto_num_workers(config):
-    """-n auto (pyproject.toml): a worker more than the cores by default,
-    since about half of a worker's time is spent waiting on real-time
-    boards and pty children (on 2 cores the default run took 4 min 24 s
-    with two workers, 3 min 34 s with three, the same day); in CI two, as
-    every busy-machine run of docs/testing.md was measured."""
+    """-n auto (pyproject.toml): in CI two workers, as every busy-machine
+    run of docs/testing.md was measured. By default a worker per core, and
+    one more when the cores are free as the run starts: about half of a
+    worker's time is spent waiting on real-time boards and pty children
+    (on 2 idle cores, the same day: 4 min 24 s with two workers, 3 min
+    34 s with three), but beside other work a third worker starved the
+    real-time tests (2 failures beside two CPU hogs, none with two)."""
     if suite_size.FULL:
         return 2
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return (cores or 1) + 1
+    cores = cores or 1
+    idle = idle_cores(cores)
+    return cores + 1 if idle is not None and idle > cores - 0.5 else max(cores, 2)
+
+
+def idle_cores(cores, seconds=0.3):
+    """How many of the cores were idle over the next `seconds` (Linux's
+    /proc/stat), or None where that cannot be read."""
+    def times():
+        with open("/proc/stat") as f:
+            fields = [int(x) for x in f.readline().split()[1:]]
+        return fields[3] + fields[4], sum(fields)          # idle and iowait, all
+    try:
+        idle0, all0 = times()
+        time.sleep(seconds)
+        idle1, all1 = times()
+    except (OSError, ValueError, IndexError):
+        return None
+    return cores * (idle1 - idle0) / max(1, all1 - all0)
 
 
 @pytest.fixture(autouse=True)
