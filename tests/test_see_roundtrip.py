@@ -15,7 +15,7 @@ check: a colon word's behaviour is its cells. The words that only compute
 (PURE below) are also run, the original and its copy on the same inputs.
 """
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 import rcl
 from rcl.forth import inner, wordloc
@@ -167,6 +167,9 @@ INPUTS = st.one_of(st.integers(0, 0x400 - 4), st.integers(0x480, 3000))
 @given(inputs=st.lists(INPUTS, min_size=5, max_size=5))
 def test_a_computing_word_of_the_system_and_its_see_copy_give_the_same_results(
         system, name, inputs):
+    if name == "RATIO":      # it reads 4 bytes at table + 4 (unit - 1): not the system variables either
+        at = (inputs[-1] + 4 * (inputs[-2] - 1)) & MASK
+        assume(not 0x400 - 4 < at < 0x480)     # (226 129 read 1029-1032: DPL, which each run sets)
     copy = recompiled(system, decompile(system, system.dictionary.find(name)[0]), name)
     try:
         assert run(system, COPY, inputs) == run(system, name, inputs)
