@@ -42,7 +42,6 @@ from dataclasses import dataclass, field
 from rcl.board import CLOCK_HZ  # noqa: F401  (the unit lives with the board interface)
 
 
-
 class PrimKind(enum.Enum):
     """How the inner interpreter runs a primitive, as @prim declares it."""
     SIMPLE = "simple"     # fn(m); static cost; may be inlined by the compiler
@@ -57,7 +56,8 @@ class PrimKind(enum.Enum):
 # The kinds as plain names: declarations read `kind=CALL`, and the inner
 # interpreter tests `p.kind is RUNTIME` on every call (a module global is
 # read several times faster than an attribute of an Enum class).
-SIMPLE, LITERAL, CONTROL, CALL, RUNTIME = PrimKind
+SIMPLE, LITERAL, CONTROL = PrimKind.SIMPLE, PrimKind.LITERAL, PrimKind.CONTROL
+CALL, RUNTIME = PrimKind.CALL, PrimKind.RUNTIME
 
 HELPERS = {}                 # functions inline templates may call, by name
 LOCALS = ("m", "s", "rs", "mem", "W")   # what compiled code binds, templates may use

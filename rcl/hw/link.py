@@ -581,8 +581,11 @@ class LinkBoard(Board):
         prompt) is counted, not run. Only TICKs count: a board that waits
         for our answer sends HEARTBEATs meanwhile (the native board one
         every 10 ms), and a host slow on one tick is not 25 ticks behind."""
-        with self.events.mutex:
-            ticks = sum(f.name == "TICK" for f in self.events.queue)
+        if self.events.qsize() <= BACKLOG:   # (no more frames than that: no more ticks; each tick)
+            ticks = 0
+        else:
+            with self.events.mutex:
+                ticks = sum(f.name == "TICK" for f in self.events.queue)
         while ticks > BACKLOG:
             f = self.events.get()
             if f.name == "TICK":
