@@ -42,9 +42,10 @@ EXAMPLES = Path(rcl.SCREENS) / "examples"
 # The watchdog's 250 ms in board time, as the native board can show them:
 # its time moves in 1 ms steps, up to 2 at once after the process was kept
 # waiting (it never catches up more), and the watchdog is looked at after
-# the steps: 250 ms and 3 ms, still within the 26th tick. On the wall
-# clock (the "silence" note) the trip comes no earlier than 250 ms less
-# the one step board time may lag it by.
+# the steps: 250 ms and 3 ms, still within the 26th tick. The tests
+# assert board time only: the wall-clock silence the board also notes can
+# read under 250 ms by what the board lagged the wall clock when the last
+# frame came (248.96 ms was seen beside CPU hogs), as it catches up after.
 WATCHDOG_BOARD_US = 253_000
 
 
@@ -159,11 +160,9 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdo
             m.evaluate("RERB 2 FEET FORWARD")
         assert e.value.screen() == " Link lost "
         assert b.wait_for(lambda: b.events("watchdog"))
-        trip, silence = b.events("watchdog")[0], b.events("silence")[0]
-        assert silence["value"] >= 249_000              # never before 250 ms, within a step
-        # ... and within 25 ticks of board time: here far fewer, as the
-        # board waited for the host's answer to its last tick
-        assert trip["value"] <= WATCHDOG_BOARD_US
+        trip = b.events("watchdog")[0]
+        # never before 250 ms of board time, and within 25 ticks of it
+        assert 250_000 <= trip["value"] <= WATCHDOG_BOARD_US
         motor = b.events("motor")
         stop = [n for n in motor if n["us"] == trip["us"]]
         assert stop and stop[-1]["value"] == 0          # relays open at that moment
@@ -282,9 +281,12 @@ def test_the_watchdog_opens_the_relays_25_ticks_after_the_last_frame(raw):
     assert raw.board.wait_for(lambda: raw.board.events("motor"))   # (its note is read apart)
     last = raw.board.events("motor")[-1]                 # the board's time of that frame
     assert raw.board.wait_for(lambda: raw.board.events("watchdog"))
-    trip, silence = raw.board.events("watchdog")[-1], raw.board.events("silence")[-1]
-    assert silence["value"] >= 249_000                   # not before 250 ms, within a step
-    assert trip["value"] <= WATCHDOG_BOARD_US            # board time: 25 ticks and a bit
+    trip = raw.board.events("watchdog")[-1]
+    # board time since the last good frame: never before 250 ms, and within
+    # a step after. (The wall-clock silence the board also notes may read a
+    # little under 250 ms: a board that lagged the wall clock when the frame
+    # came catches up after it. The watchdog is kept in board time.)
+    assert 250_000 <= trip["value"] <= WATCHDOG_BOARD_US
     assert trip["us"] - last["us"] <= WATCHDOG_BOARD_US
     assert [n for n in raw.board.events("motor") if n["us"] == trip["us"] and n["value"] == 0]
 
