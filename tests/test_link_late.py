@@ -150,6 +150,35 @@ def test_a_host_silent_past_the_boards_watchdog_is_told_so_not_control_loop_stal
         m.board.close()
 
 
+def test_a_word_that_finds_the_tick_stopped_by_our_silence_says_host_too_slow(
+        free_running_board):
+    # The process stopped between two words (seen beside CPU hogs: a host
+    # not scheduled for 2 s): the board's watchdog stopped its tick, and
+    # the next word's check of the timer finds it off. Nobody stopped it
+    # there: the message names the host's silence, not "INSTALL starts it".
+    m = rcl.open(port=free_running_board)
+    try:
+        board = m.board
+        m.evaluate("RERB 1 INCHES FORWARD")
+        in16 = board.in16
+
+        def stalled(port):                         # ?TICKING's first read
+            board.in16 = in16
+            stall_process(0.6)
+            return in16(port)
+        board.in16 = stalled
+        with pytest.raises(rcl.ForthError) as e:
+            m.evaluate("RERB 1 INCHES FORWARD")
+        found = re.fullmatch(r"Host too slow: silent (\d+) ms, past the board's 250 ms watchdog; "
+                             r"the board stopped the motors and its tick \(INSTALL starts it\)",
+                             e.value.message)
+        assert found, e.value.message
+        assert int(found.group(1)) > 250
+        assert m.evaluate("INSTALL RERB 1 INCHES FORWARD") == ""   # the session goes on
+    finally:
+        m.board.close()
+
+
 def test_a_write_the_port_held_is_not_called_the_hosts_silence(free_running_board):
     # The host wrote at once, but the port took the bytes only 0.6 s later
     # (a board or line that was not reading: seen for seconds beside CPU

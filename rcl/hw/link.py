@@ -568,12 +568,17 @@ class LinkBoard(Board):
         its watchdog (docs/protocol.md section 6): it has gone quiet, motors
         off. Say so, with the figure, rather than wait for ticks that will
         not come (the running word would end Control loop stalled)."""
-        silent, self.silent_for = self.silent_for, 0.0
         self.ticking, self.due = False, None
-        m.request_stop(ForthError(
+        m.request_stop(self.silence_error())
+
+    def silence_error(self):
+        """The board's watchdog tripped by our silence (silent_for): the
+        error to report, with the figure; the silence is then told."""
+        silent, self.silent_for = self.silent_for, 0.0
+        return ForthError(
             -293, "Host too slow: silent %d ms, past the board's %d ms watchdog; the board "
             "stopped the motors and its tick (INSTALL starts it)"
-            % (round(silent * 1000), P.WATCHDOG_MS)))
+            % (round(silent * 1000), P.WATCHDOG_MS))
 
     def next_event(self, block):
         """The next TICK or HEARTBEAT (None: none waiting, when not to
@@ -657,6 +662,12 @@ class LinkBoard(Board):
             # the link is the cause to report
             lost.file, lost.line = error.file, error.line
             return lost
+        if self.silent_for and error.message.startswith("Control loop not running"):
+            # the board stopped its tick itself, its watchdog tripped by our
+            # silence: say that, not "INSTALL starts it" (nobody stopped it)
+            e = self.silence_error()
+            e.file, e.line = error.file, error.line
+            return e
         late = self.replay.take_late()
         if late is None or error.message != "Following error":
             return error
