@@ -434,10 +434,14 @@ def test_the_harness_sees_a_new_sessions_ticks_as_new_and_paces_it_as_the_first(
             assert sim.wait_for(lambda: sim.figures()["answered_tick"] == seen[-1])
             figures = sim.figures()
             assert seen == list(range(seen[0], n + 1)) and seen[0] < 10
-            # every tick since IDENTIFY counted, 1 to the last (the board
-            # may have gone on past n, unanswered, by now)
+            # the ticks counted from 1 again, each a frame from the first the
+            # host saw to the last (the board may have gone on past n,
+            # unanswered, by now). Ticks before that may have come before
+            # INT 1Ch pointed into the Forth segment (the BIOS's 55 ms
+            # tick, and four FAR_STOREs on a busy machine): no frame.
             assert figures["answered_tick"] == n and figures["last_tick"] >= n
-            assert figures["tick_frames"] - before["tick_frames"] == figures["last_tick"]
+            frames = figures["tick_frames"] - before["tick_frames"]
+            assert figures["last_tick"] - seen[0] + 1 <= frames <= figures["last_tick"]
         assert figures["sessions"] == 2
     finally:
         link.close()
