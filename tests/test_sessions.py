@@ -133,16 +133,28 @@ def image(tmp_path_factory):
     return str(path)
 
 
+HOST_TOO_SLOW = -293
+STALLS_ALLOWED = 2                   # a session's, in a row
+
+
 def session(where, image, command=FIRST):
-    """One host: connect, the command, the counts at rest, leave; -> counts."""
-    m = rcl.open(port=where, image=image)
-    try:
-        left, right = (int(x) for x in m.evaluate(command + READ).split())
-    except rcl.ForthError as e:       # say what the link saw (a loaded machine: Link lost)
-        raise AssertionError("%s; %s" % (e.message, m.board.status())) from None
-    finally:
-        m.board.close()
-    return left, right
+    """One host: connect, the command, the counts at rest, leave; -> counts.
+    A session whose host measured its own stall past the board's watchdog
+    (` Host too slow `: this process not scheduled for 250 ms, as on a
+    machine with CPU hogs beside it) is a session the board rightly ended,
+    motors off: the next host starts one again, as a user would, and its
+    counts are asserted as any session's."""
+    for attempt in range(STALLS_ALLOWED + 1):
+        m = rcl.open(port=where, image=image)
+        try:
+            left, right = (int(x) for x in m.evaluate(command + READ).split())
+            return left, right
+        except rcl.ForthError as e:   # say what the link saw (a loaded machine: Link lost)
+            if e.code != HOST_TOO_SLOW or attempt == STALLS_ALLOWED:
+                raise AssertionError("%s; %s" % (e.message, m.board.status())) from None
+            print("\nsession again after: %s; %s" % (e.message, m.board.status()))
+        finally:
+            m.board.close()
 
 
 def within_a_count(counts, first, slack=1):
