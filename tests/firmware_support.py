@@ -19,6 +19,7 @@ link's fault cases.
 Without the toolchain the tests skip and say what to install (or fail,
 with RCL_REQUIRE_FIRMWARE=1, as CI wants).
 """
+import collections
 import json
 import os
 import pathlib
@@ -355,6 +356,7 @@ class RawLink:
         tty.setraw(self.fd)
         self.reader = protocol.FrameReader()
         self.raw = bytearray()          # every byte received, for byte-for-byte checks
+        self.later = collections.deque()    # frames read after the one returned
 
     def send(self, data):
         os.write(self.fd, data)
@@ -391,16 +393,20 @@ class RawLink:
         """Frames until one named `want` (or any, if None) comes; -> it, or
         None after `seconds` (a bound for a broken board, not a measure)."""
         end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            ready, _, _ = select.select([self.fd], [], [], 0.05)
-            if not ready:
-                continue
-            data = os.read(self.fd, 4096)
-            self.raw += data
-            for f in self.reader.feed(data):
+        while True:
+            # one read may hold several frames (two TICKs, on a busy
+            # machine): those after the one returned wait for the next call
+            while self.later:
+                f = self.later.popleft()
                 if want is None or f.name == want:
                     return f
-        return None
+            if time.monotonic() >= end:
+                return None
+            ready, _, _ = select.select([self.fd], [], [], 0.05)
+            if ready:
+                data = os.read(self.fd, 4096)
+                self.raw += data
+                self.later.extend(self.reader.feed(data))
 
     def answer(self, seq, name, /, **values):
         """Send a sequenced frame; -> its answer (ACK, VALUE, RESULTS or

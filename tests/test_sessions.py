@@ -175,6 +175,7 @@ class Raw:
         if self.sock is None:
             tty.setraw(self.fd)
         self.reader = P.FrameReader()
+        self.later = []                  # frames read after the `until` one
         self.seq = 1
 
     def send(self, data):
@@ -187,16 +188,18 @@ class Raw:
         """Every frame that comes within `seconds`, or up to the first for
         which until(frame) is true."""
         got, end = [], time.monotonic() + seconds
-        while time.monotonic() < end:
+        while True:
+            while self.later:                # (one read may hold several frames)
+                got.append(self.later.pop(0))
+                if until is not None and until(got[-1]):
+                    return got
+            if time.monotonic() >= end:
+                return got
             if select.select([self.fd], [], [], 0.01)[0]:
                 data = self.sock.recv(4096) if self.sock else os.read(self.fd, 4096)
                 if not data:
-                    break
-                for f in self.reader.feed(data):
-                    got.append(f)
-                    if until is not None and until(f):
-                        return got
-        return got
+                    return got
+                self.later = self.reader.feed(data)
 
     def hello(self):
         """HELLO until IDENTIFY (a bound of 10 s, for a broken board); -> it."""
