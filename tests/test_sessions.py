@@ -142,8 +142,8 @@ def session(where, image, command=FIRST):
     A session whose host measured its own stall past the board's watchdog
     (` Host too slow `: this process not scheduled for 250 ms, as on a
     machine with CPU hogs beside it) is a session the board rightly ended,
-    motors off: the next host starts one again, as a user would, and its
-    counts are asserted as any session's."""
+    motors off: the next host starts one again, as a user would, once the
+    wheels stand still, and its counts are asserted as any session's."""
     for attempt in range(STALLS_ALLOWED + 1):
         m = rcl.open(port=where, image=image)
         try:
@@ -153,6 +153,22 @@ def session(where, image, command=FIRST):
             if e.code != HOST_TOO_SLOW or attempt == STALLS_ALLOWED:
                 raise AssertionError("%s; %s" % (e.message, m.board.status())) from None
             print("\nsession again after: %s; %s" % (e.message, m.board.status()))
+        finally:
+            m.board.close()
+        at_rest(where, image)
+
+
+def at_rest(where, image, sessions=10):
+    """After a session its board's watchdog stopped mid-move, the wheels
+    coast on a while (a session started at once read 35 and 36 counts for
+    29); -> when one reads them still for 300 ms (up to `sessions`)."""
+    for _ in range(sessions):
+        m = rcl.open(port=where, image=image)
+        try:
+            if m.evaluate(READ).split() == ["0", "0"]:
+                return
+        except rcl.ForthError:
+            pass
         finally:
             m.board.close()
 
