@@ -13,6 +13,7 @@ when the body leaves the stack as deep as it found it, the top of the data
 stack too:
 
     _lim = rs[-2]; _i = rs[-1]
+    if not s: ...                             # the reference loop runs it (as below)
     _c = s.pop()                              # the top of stack, carried
     while True:
         if clk + 2000000 >= m.deadline:       # the usual check, each iteration
@@ -220,7 +221,10 @@ class LoopGen:
             body = self.loop_body(ops, pre + term.cost, plus, ind + 2, False, steady)
         lines, step, out = body
         self.emit(LOAD_FRAME, ind, "rs")
-        if carry:
+        if carry:               # an empty stack: the reference loop runs it, to its underflow
+            first = ops[0].addr if ops else term.addr
+            self.emit("if not s: m.clock = clk; clk = -1; return m.run_from(%d, d0)" % first,
+                      ind, "s", "d0")
             self.emit("_c = s.pop()", ind, "s")
         if steady:
             self.emit("_d = 1", ind)

@@ -57,6 +57,13 @@ The clock lives in `clk`, a local; before any Python that may read or move
 the clock, m.clock gets it back and `clk = -1` tells the `finally` that
 m.clock is now the truth (`clock_out`, `clock_in`).
 
+A fast path charges its block's whole cost at once, so a primitive that
+fails in the middle (a pop from an empty stack) would leave the clock
+ahead of the reference loop's. Each fast-path line carries a note of the
+units charged beyond it (`t2 = s[-1]  # ahead 3000000`, left out above);
+the function's `except` looks up the line that raised (AHEAD_AT) and
+takes them back before the error goes on.
+
 The clever part, explained once (compile_block.py has the details): inside
 a block the data stack is kept in Python locals (`vs`, a list of names or
 constants standing for the top cells); only at a block's end, or before
@@ -104,6 +111,7 @@ with what it kept in Python names put where the reference keeps it
 (`stale_check`, `resume`): run_from reads every cell as it goes, so the
 change is seen exactly where the reference loop sees it.
 """
+import re
 import types
 
 from rcl.errors import ForthError
@@ -120,6 +128,8 @@ from rcl.forth.inner import (COMPILED, CONTROL_BY_CF, N, RSTACK_CELLS,  # (decod
 DOCOL_N = N["(DOCOL)"]
 
 INLINED = "# inlined: "       # a compiled line's note of the inlined calls it runs in
+AHEAD = "# ahead "            # a fast-path line's note of the clock units clk holds beyond it
+AHEAD_NOTE = re.compile(r"  # ahead (\d+)")
 GROUP = 32                   # blocks per group of guards in a long definition
 
 
@@ -234,6 +244,8 @@ class Gen(BlockGen, LoopGen):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
         self.saw_line(ind, uses)
+        if self.blk.rest:                # (before any inlined note: wordloc.py reads that last)
+            line += "  %s%d" % (AHEAD, self.blk.rest)
         if self.blk.inlined:             # for a backtrace (wordloc.py): the calls pasted here
             line += "  %s%s" % (INLINED, " ".join(map(str, self.blk.inlined)))
         self.lines.append("    " * ind + line)
@@ -470,7 +482,13 @@ class Gen(BlockGen, LoopGen):
                                                 if n in self.uses] + ["clk = m.clock"])
         # The clock lives in clk; whatever way the function is left, m.clock
         # gets it back (unless a call or the slow path made m.clock the truth).
+        # A fast path charges its whole block at once: an error in the middle
+        # (a pop from an empty stack) gives back what the reference loop had
+        # not yet charged, the note on the line that raised (AHEAD).
         self.lines[2:] = ["    try:"] + ["    " + line for line in self.lines[2:]] + [
+            "    except BaseException as _e:",
+            "        if clk >= 0: m.clock = clk - AHEAD_AT.get(_e.__traceback__.tb_lineno, 0); clk = -1",
+            "        raise",
             "    finally:", "        if clk >= 0: m.clock = clk"]
         marks = set(self.extra_marks)
         for ins in code.values():
@@ -500,12 +518,24 @@ def compile_code(m, entry):
     env.update(HELPERS)
     env.update(slow=slow, RESUME=resume, STALE=False, G=env,
                FN=m.fn.get, CP=m.compile,
-               BMAP={a: k for a, k in gen.index.items() if a not in gen.inner})
+               BMAP={a: k for a, k in gen.index.items() if a not in gen.inner},
+               AHEAD_AT=ahead_at(src))
     exec(compile(src, COMPILED, "exec"), env)
     f = env["f"]
     f.source = src
     f.marks = marks                  # the bytes it rests on (compile_deps.py)
     return f
+
+
+def ahead_at(src):
+    """{line number: the clock units charged ahead of it} for the lines of
+    compiled source that carry an AHEAD note."""
+    out = {}
+    for n, line in enumerate(src.split("\n"), 1):
+        note = AHEAD_NOTE.search(line)
+        if note:
+            out[n] = int(note.group(1))
+    return out
 
 
 def source(m, name):
