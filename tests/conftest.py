@@ -9,6 +9,7 @@ import tempfile
 import time
 
 import pytest
+from _pytest.runner import runtestprotocol
 
 import suite_size
 
@@ -40,6 +41,59 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.real_time)
         uno = any(part in item.nodeid for part in ONE_UNO_AT_A_TIME)
         item.add_marker(pytest.mark.xdist_group("uno" if uno else item.nodeid.split("::")[0]))
+
+
+# rcl's own verdicts that time ran out: the board was not heard for 250 ms
+# (Link lost) or the host answered too late (Host too slow). In a real-time
+# test they are the machine's doing when it starves the board or the host
+# (docs/testing.md: a pty the kernel does not move, a process not run for
+# 200 ms beside CPU hogs); such a test runs once more, asserting the same,
+# and the summary names it. Any other failure, or a second, stands.
+STARVED = (-292, -293)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    report = outcome.get_result()
+    error = call.excinfo.value if call.excinfo is not None else None
+    report.starved = (report.failed and call.when == "call"
+                      and type(error).__name__ == "ForthError"
+                      and getattr(error, "code", None) in STARVED)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_protocol(item, nextitem):
+    """A real-time test that failed starved (STARVED) runs once more."""
+    if item.get_closest_marker("real_time") is None:
+        return None
+    item.ihook.pytest_runtest_logstart(nodeid=item.nodeid, location=item.location)
+    reports = runtestprotocol(item, nextitem=nextitem, log=False)
+    starved = [r for r in reports if getattr(r, "starved", False)]
+    if starved:
+        first = str(starved[0].longrepr.reprcrash.message) if hasattr(
+            starved[0].longrepr, "reprcrash") else "starved"
+        reports = runtestprotocol(item, nextitem=nextitem, log=False)
+        for r in reports:
+            r.user_properties.append(("run again", first))
+    for r in reports:
+        item.ihook.pytest_runtest_logreport(report=r)
+    item.ihook.pytest_runtest_logfinish(nodeid=item.nodeid, location=item.location)
+    return True
+
+
+def pytest_terminal_summary(terminalreporter):
+    """Name every real-time test that ran again, and why."""
+    again = {}
+    for reports in terminalreporter.stats.values():
+        for r in reports:
+            for name, why in getattr(r, "user_properties", ()):
+                if name == "run again" and getattr(r, "when", None) == "call":
+                    again[r.nodeid] = (why, r.outcome)
+    if again:
+        terminalreporter.section("real-time tests run again (the first run starved)")
+        for nodeid, (why, outcome) in sorted(again.items()):
+            terminalreporter.line("%s: %s; again: %s" % (nodeid, why, outcome))
 
 
 def pytest_xdist_auto_num_workers(config):

@@ -158,7 +158,7 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_by_its_watchdo
         threading.Thread(target=cut_mid_move, daemon=True).start()
         with pytest.raises(rcl.ForthError) as e:
             m.evaluate("RERB 2 FEET FORWARD")
-        assert e.value.screen() == " Link lost "
+        assert e.value.screen() == " Link lost ", m.board.status()
         assert b.wait_for(lambda: b.events("watchdog"))
         trip = b.events("watchdog")[0]
         # never before 250 ms of board time, and within 25 ticks of it

@@ -329,7 +329,7 @@ def test_a_cut_link_stops_the_uno_images_move_by_its_250_ms_watchdog(uno, host):
         threading.Thread(target=cut_mid_move, daemon=True).start()
         with pytest.raises(rcl.ForthError) as e:
             m.evaluate("RERB 4 FEET FORWARD")             # 1360 counts
-        assert e.value.screen() == " Link lost "
+        assert e.value.screen() == " Link lost ", m.board.status()
         assert sim.wait_for(lambda: sim.figures()["drive"] == [0.0, 0.0])
         figures = sim.figures()
         # In board time: the drive stopped 250 ms after the last good frame
