@@ -200,9 +200,12 @@ def test_a_write_the_port_held_is_not_called_the_hosts_silence(free_running_boar
         board.port.write = write
         with pytest.raises(rcl.ForthError) as e:
             m.evaluate("RERB 1 MPH 3 FEET FORWARD")
-        # the tick stopped while the host was writing: what the board did is
-        # what the user hears of, not a silence the host never kept
-        assert held and e.value.message == "Control loop stalled", e.value.message
+        # the tick stopped while the host was writing: the link failed our
+        # way (the board heard nothing), not a silence the host never kept;
+        # said at once, where it used to wait out 100 HALTs (Control loop stalled)
+        assert held and e.value.message == (
+            "Link lost: the board heard nothing good from us for its 250 ms watchdog; it "
+            "stopped the motors and its tick (INSTALL starts it)"), e.value.message
         board.port.write = port_write
         assert m.evaluate("INSTALL RERB 1 INCHES FORWARD") == ""   # the session goes on
     finally:

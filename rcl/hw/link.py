@@ -83,6 +83,9 @@ class LinkBoard(Board):
         self.skipped = self.retries = 0
         self.period = self.replay.period = 10_000 * US
         self.ticking = False
+        self.ticked = False                   # TICKs came since we last wrote the timer
+        self.taken = 0                        # board frames taken in order, each numbered
+        self.timer_written = 0                # the number of the answer to that write
         self.silent_for = 0.0                 # s: our longest silence past the board's watchdog
         self.heard_again = 0.0                # when a frame went out after it
         self.sent_writes = []                 # (port, value): every OUT8 the board did for us
@@ -160,7 +163,7 @@ class LinkBoard(Board):
         self.replay.new_session()
         # the lockstep extension: only a board that says it is simulated
         self.lockstep = HostTime() if ident["flags"] & P.FLAG_LOCKSTEP else None
-        self.loss, self.ticking = None, False
+        self.loss, self.ticking, self.ticked = None, False, False
         self.session.go(S.IDENTIFIED)
         try:
             self.request("SNAPSHOT", ops=self.replay.script)
@@ -301,6 +304,8 @@ class LinkBoard(Board):
         if nak is not None:
             self.send(P.frame(0, "NAK", seq=nak))
         for f in ready:
+            self.taken += 1
+            f.order = self.taken              # (which came before our last timer write)
             (self.events if f.name in ("TICK", "HEARTBEAT") else self.replies).put(f)
 
     def send(self, data):
@@ -489,8 +494,9 @@ class LinkBoard(Board):
         if port < PCB_BASE:
             return super().out16(port, word)
         self.flush_tick_writes()
-        self.io("OUT16", port=port, value=word)
+        reply = self.io("OUT16", port=port, value=word)
         self.silent_for = 0.0                 # a stop from here on is our own
+        self.timer_was_written(reply)
         if not self.replay.active and not self.lost:
             # The timer may tick now: wait for its first tick a period on (a
             # HEARTBEAT says if none comes), so the host's time meets it there.
@@ -554,9 +560,12 @@ class LinkBoard(Board):
                 return
             if event.name == "TICK":
                 self.ticking = True
+                self.ticked = self.ticked or event.order > self.timer_written
                 return self.run_tick(m, event)
-            if self.ticking and not event["ticking"] and self.silent_for:
+            if self.ticking and not event["ticking"] and self.silent_now():
                 return self.watchdog_tripped(m)
+            if self.ticked and not event["ticking"]:
+                return self.tick_stopped_unasked(m)
             self.ticking = bool(event["ticking"])
             if not self.ticking and self.lockstep is not None:
                 self.lockstep.follows = following = True   # the board keeps our time again
@@ -570,6 +579,34 @@ class LinkBoard(Board):
         not come (the running word would end Control loop stalled)."""
         self.ticking, self.due = False, None
         m.request_stop(self.silence_error())
+
+    def silent_now(self):
+        """Our silence past the board's watchdog: one a write has ended
+        (silent_for), or one not yet ended, nothing sent since (this
+        process was stopped, and the board's news is read first)."""
+        gap = time.monotonic() - self.last_tx
+        if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
+            self.silent_for = max(self.silent_for, gap)
+        return self.silent_for
+
+    def timer_was_written(self, reply):
+        """We wrote the timer (reply: the board's answer, if any): a stop
+        from here on may be our own, and the TICKs the board sent before
+        its answer (still queued) are no sign that it ticks since."""
+        self.ticked = False
+        self.timer_written = getattr(reply, "order", self.taken)
+
+    def tick_stopped_unasked(self, m):
+        """The board stopped a running tick that we neither stopped nor left
+        silent past its watchdog: what we sent did not reach it for 250 ms
+        (a line that drops or holds our frames; docs/protocol.md section
+        6). Say so now, rather than wait out 100 HALTs (Control loop
+        stalled): the link failed, our way."""
+        self.ticking = self.ticked = False
+        self.due = None
+        m.request_stop(ForthError(
+            -292, "Link lost: the board heard nothing good from us for its %d ms watchdog; it "
+            "stopped the motors and its tick (INSTALL starts it)" % P.WATCHDOG_MS))
 
     def silence_error(self):
         """The board's watchdog tripped by our silence (silent_for): the
@@ -688,9 +725,10 @@ class LinkBoard(Board):
 
     def tick_failed(self):
         self.replay.active = False
+        self.timer_was_written(None)
         if not self.lost:
             try:
-                self.request("TICK_FAILED")
+                self.timer_was_written(self.request("TICK_FAILED"))
             except P.LinkError:
                 self.lose(Loss(Cause.NO_ANSWER, "no answer to TICK_FAILED"))
         self.due = None
@@ -706,3 +744,4 @@ class LinkBoard(Board):
 def drain(q):
     while not q.empty():
         q.get_nowait()
+
