@@ -61,6 +61,11 @@ class LinkLost(P.LinkError):
         self.loss = loss
 
 
+# The link failed our way: the board stopped its tick by its watchdog (section 6)
+UNHEARD = ("Link lost: the board heard nothing good from us for its %d ms watchdog; it stopped "
+           "the motors and its tick (INSTALL starts it)" % P.WATCHDOG_MS)
+
+
 def link_lost():
     return ForthError(-292, "Link lost")
 
@@ -604,9 +609,7 @@ class LinkBoard(Board):
         stalled): the link failed, our way."""
         self.ticking = self.ticked = False
         self.due = None
-        m.request_stop(ForthError(
-            -292, "Link lost: the board heard nothing good from us for its %d ms watchdog; it "
-            "stopped the motors and its tick (INSTALL starts it)" % P.WATCHDOG_MS))
+        m.request_stop(ForthError(-292, UNHEARD))
 
     def silence_error(self):
         """The board's watchdog tripped by our silence (silent_for): the
