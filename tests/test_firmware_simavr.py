@@ -282,11 +282,17 @@ def test_a_flood_of_garbage_both_ways_crashes_nothing_on_the_uno_image(uno, host
     garbage = flood_of(3000, 3, sync_rich=False)
     with FaultRelay(sim.path, seed=3) as relay:
         m = host(relay.path)
+        before = sim.figures()["bytes_to_board"]
         relay.flood(garbage)                    # 0.26 s of the wire into the board
         relay.flood(garbage, to_host=True)
-        # The host's frames waited behind the flood past the board's 250 ms
-        # watchdog: the board went safe and quiet (docs/protocol.md section
-        # 6), and INSTALL sets the tick up again, as after any lost host.
+        # The host's frames (its PINGs) wait behind the flood past the
+        # board's 250 ms watchdog: the board goes safe and quiet
+        # (docs/protocol.md section 6), and INSTALL sets the tick up again,
+        # as after any lost host. INSTALL waits for the flood to reach the
+        # board: asked at once, its answer came 0.26 s later, and a busy
+        # machine's pty that stood still on top of that made the host give
+        # its request up (1 s) in CI and beside CPU hogs.
+        assert sim.wait_for(lambda: sim.figures()["bytes_to_board"] >= before + len(garbage), 30)
         m.evaluate("INSTALL")
         m.evaluate(LEGS)
         relay.flood(b"ATZ\r\n\x1b[2J" + garbage[:500])
