@@ -46,6 +46,7 @@ import ast
 
 from rcl.forth.inner import RSTACK_CELLS
 from rcl.forth.control import INDEX, LIMIT, frame_cell, index_of
+from rcl.forth.decode import stack_need
 from rcl.forth.memory import MASK
 
 # A DO loop run as a Python while keeps its frame's index' and limit' in
@@ -86,13 +87,15 @@ class BlockState:
     """What the code generator knows on one path through a block (its fast
     path, or the terminator after its slow path): made fresh for each."""
     __slots__ = ("vs", "dpl", "index_atom", "rest", "rs_known", "rs_pending", "open_calls",
-                 "rs_unknown", "last_pop", "open_rets", "inlined", "at_next", "docol_checked")
+                 "rs_unknown", "last_pop", "open_rets", "inlined", "at_next", "docol_checked",
+                 "later")
 
     def __init__(self, vs=(), rest=0, index_atom=None, docol_checked=False):
         self.vs = list(vs)           # atoms standing for the top data-stack cells
         self.dpl = None              # a literal's DPL not yet stored
         self.index_atom = index_atom  # the atom holding I, while the loop frame stays put
         self.rest = rest             # clock units clk holds beyond the primitive being emitted
+        self.later = ()              # the block's instructions after that one
         self.rs_known = None         # atoms known to be the top return-stack cells (locals)
         self.rs_pending = None       # a line pushing them, not yet emitted (see forget_rs)
         self.open_calls = 0          # inlined calls entered and not left, in the fast path
@@ -289,6 +292,9 @@ class BlockGen:
         self.clock_out(ind)
         self.emit(call, ind)
         self.stale_check(ins.next, ind)
+        need = stack_need(self.blk.later)
+        if need:                # the rest of the block too short now: the reference loop
+            self.stale_check(ins.next, ind, cond="len(s) < %d" % need)   # fails where it does
         self.clock_in(ind)
 
     def truth(self, f):

@@ -109,8 +109,9 @@ class Kind:
         return False
 
     def stack_effect(self, ins):
+        """(cells taken, cells left), or None: Python the compiler cannot see into."""
         tpl = self.template(ins)
-        return len(tpl.inputs), len(tpl.outputs)
+        return None if tpl is None else (len(tpl.inputs), len(tpl.outputs))
 
     def forth(self, m, ins):
         name = m.dictionary.name_of(ins.xt)
@@ -185,7 +186,8 @@ class Literal(Kind):
         return 0 if "lit" in extra else Kind.rs_growth(self, ins)
 
     def stack_effect(self, ins):
-        return 0, len(self.number(ins)[0])
+        number = self.number(ins)
+        return (0, len(number[0])) if number is not None else Kind.stack_effect(self, ins)
 
     def forth(self, m, ins):
         p = ins.prim

@@ -229,7 +229,9 @@ class LoopGen:
         if steady:
             self.emit("_d = 1", ind)
         self.emit("while True:", ind)
-        self.emit("if clk + %d >= m.deadline%s:" % (pre, self.depth_check(ops)), ind + 1)
+        self.emit("if clk + %d >= m.deadline%s%s:" % (pre, self.depth_check(ops),
+                                                      self.need_check(ops, 1 if carry else 0)),
+                  ind + 1)
         self.emit("m.clock = clk; clk = -1; " + STORE_INDEX + ("; s.append(_c)" if carry else ""),
                   ind + 2, "s")
         self.slow_path(ops, term, term.cost, ind + 2)

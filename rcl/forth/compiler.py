@@ -23,7 +23,7 @@ few minutes with a machine at hand):
             b = 0
             while True:
                 if b <= 0:   # 198F  1- DUP 0= ?BRANCH      (block 0, the Forth it runs)
-                    if clk + 3000000 >= m.deadline:
+                    if clk + 3000000 >= m.deadline or len(s) < 1:
                         m.clock = clk; clk = -1
                         _r = slow(m, G, SEQ0)    # exact: a primitive at a time
                         if _r is not None: return _r   # (the code changed: see below)
@@ -58,11 +58,12 @@ the clock, m.clock gets it back and `clk = -1` tells the `finally` that
 m.clock is now the truth (`clock_out`, `clock_in`).
 
 A fast path charges its block's whole cost at once, so a primitive that
-fails in the middle (a pop from an empty stack) would leave the clock
-ahead of the reference loop's. Each fast-path line carries a note of the
-units charged beyond it (`t2 = s[-1]  # ahead 3000000`, left out above);
-the function's `except` looks up the line that raised (AHEAD_AT) and
-takes them back before the error goes on.
+failed in the middle (a pop from an empty stack) would leave the clock
+ahead of the reference loop's. A block that takes cells from below its
+start checks the stack's depth with the deadline (`or len(s) < 1`,
+`need_check`): too short, the slow path runs it and fails where the
+reference loop does. (Python's line numbers cannot say which primitive
+failed: PyPy 7.3 reports lines a function does not have.)
 
 The clever part, explained once (compile_block.py has the details): inside
 a block the data stack is kept in Python locals (`vs`, a list of names or
@@ -111,7 +112,6 @@ with what it kept in Python names put where the reference keeps it
 (`stale_check`, `resume`): run_from reads every cell as it goes, so the
 change is seen exactly where the reference loop sees it.
 """
-import re
 import types
 
 from rcl.errors import ForthError
@@ -121,15 +121,14 @@ from rcl.forth.compile_block import (WIDE_DPL, BlockGen, BlockState,  # noqa: F4
                                      forth_of)                          # core.py)
 from rcl.forth.compile_loops import LoopGen, LoopState
 from rcl.forth.control import BY_NAME as CONTROL_OPS, INDEX
-from rcl.forth.decode import NO_TERMINATOR, TooLarge, call_depth, decode, walk  # noqa: F401
+from rcl.forth.decode import (NO_TERMINATOR, TooLarge, call_depth, decode, stack_need,  # noqa: F401
+                              walk)
 from rcl.forth.inner import (COMPILED, CONTROL_BY_CF, N, RSTACK_CELLS,  # (decode: for SEE)
                              decode_args)
 
 DOCOL_N = N["(DOCOL)"]
 
 INLINED = "# inlined: "       # a compiled line's note of the inlined calls it runs in
-AHEAD = "# ahead "            # a fast-path line's note of the clock units clk holds beyond it
-AHEAD_NOTE = re.compile(r"  # ahead (\d+)")
 GROUP = 32                   # blocks per group of guards in a long definition
 
 
@@ -244,8 +243,6 @@ class Gen(BlockGen, LoopGen):
         """Add a line; `uses` are the prologue's locals it names (s, rs,
         mem, W, d0), recorded so the prologue binds just those."""
         self.saw_line(ind, uses)
-        if self.blk.rest:                # (before any inlined note: wordloc.py reads that last)
-            line += "  %s%d" % (AHEAD, self.blk.rest)
         if self.blk.inlined:             # for a backtrace (wordloc.py): the calls pasted here
             line += "  %s%s" % (INLINED, " ".join(map(str, self.blk.inlined)))
         self.lines.append("    " * ind + line)
@@ -291,7 +288,7 @@ class Gen(BlockGen, LoopGen):
         self.clock_in(ind)
         self.goto_next(k, ret, ind)
 
-    def stale_check(self, ip, ind, clock=""):
+    def stale_check(self, ip, ind, clock="", cond="STALE"):
         """After Python code that may have changed the code this function
         was made from (a store, a call, an interrupt handler): if it did,
         the reference loop goes on at ip, the next primitive, as it would
@@ -309,14 +306,14 @@ class Gen(BlockGen, LoopGen):
         if self.blk.dpl is not None:               # (none is pending where checks are made)
             raise AssertionError("a DPL pending at a stale check")
         if not (cells or rs_cells or index):
-            self.emit("if STALE: %sreturn m.run_from(%d)" % (clock, ip), ind)
+            self.emit("if %s: %sreturn m.run_from(%d)" % (cond, clock, ip), ind)
             return
         args = [str(ip), "(%s)" % "".join(a + ", " for a in cells).rstrip(" ")]
         if index or rs_cells:
             args.append(index or "None")
         if rs_cells:
             args.append("(%s)" % "".join(a + ", " for a in rs_cells).rstrip(" "))
-        self.emit("if STALE: %sreturn RESUME(m, %s)" % (clock, ", ".join(args)), ind)
+        self.emit("if %s: %sreturn RESUME(m, %s)" % (cond, clock, ", ".join(args)), ind)
 
     def terminator(self, ins, k, ind):
         """The code that ends block k: a control operation (control.py) or
@@ -374,7 +371,8 @@ class Gen(BlockGen, LoopGen):
         # (the deadline moves only in Python code, which ends a block).
         docol = term.kind.checks_docol
         ahead = tcost if docol else 0
-        self.emit("if clk + %d >= m.deadline%s:" % (pre + ahead, self.depth_check(ops)), ind)
+        self.emit("if clk + %d >= m.deadline%s%s:" % (pre + ahead, self.depth_check(ops),
+                                                      self.need_check(ops)), ind)
         self.clock_out(ind + 1)
         self.slow_path(ops, term if term.kind.costed else None, tcost, ind + 1)
         self.clock_in(ind + 1)
@@ -401,10 +399,22 @@ class Gen(BlockGen, LoopGen):
         primitives pasted (op_simple), `rest` the cost still ahead of each."""
         self.emit("clk += %d" % cost, ind)
         self.blk.rest = cost
-        for i in ops:
+        for n, i in enumerate(ops):
             self.blk.rest -= i.cost
+            self.blk.later = ops[n + 1:]
             self.op_simple(i, ind)
         self.blk.rest = 0
+
+    def need_check(self, ops, kept=0):
+        """For a block that takes cells from below its start: the condition
+        under which the data stack is too short for it (then the slow path
+        runs, and fails exactly where the reference loop does). kept: cells
+        of the stack the code holds in Python names instead."""
+        need = stack_need(ops) - kept
+        if need <= 0:
+            return ""
+        self.uses.add("s")
+        return " or len(s) < %d" % need
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
@@ -482,13 +492,7 @@ class Gen(BlockGen, LoopGen):
                                                 if n in self.uses] + ["clk = m.clock"])
         # The clock lives in clk; whatever way the function is left, m.clock
         # gets it back (unless a call or the slow path made m.clock the truth).
-        # A fast path charges its whole block at once: an error in the middle
-        # (a pop from an empty stack) gives back what the reference loop had
-        # not yet charged, the note on the line that raised (AHEAD).
         self.lines[2:] = ["    try:"] + ["    " + line for line in self.lines[2:]] + [
-            "    except BaseException as _e:",
-            "        if clk >= 0: m.clock = clk - AHEAD_AT.get(_e.__traceback__.tb_lineno, 0); clk = -1",
-            "        raise",
             "    finally:", "        if clk >= 0: m.clock = clk"]
         marks = set(self.extra_marks)
         for ins in code.values():
@@ -518,24 +522,12 @@ def compile_code(m, entry):
     env.update(HELPERS)
     env.update(slow=slow, RESUME=resume, STALE=False, G=env,
                FN=m.fn.get, CP=m.compile,
-               BMAP={a: k for a, k in gen.index.items() if a not in gen.inner},
-               AHEAD_AT=ahead_at(src))
+               BMAP={a: k for a, k in gen.index.items() if a not in gen.inner})
     exec(compile(src, COMPILED, "exec"), env)
     f = env["f"]
     f.source = src
     f.marks = marks                  # the bytes it rests on (compile_deps.py)
     return f
-
-
-def ahead_at(src):
-    """{line number: the clock units charged ahead of it} for the lines of
-    compiled source that carry an AHEAD note."""
-    out = {}
-    for n, line in enumerate(src.split("\n"), 1):
-        note = AHEAD_NOTE.search(line)
-        if note:
-            out[n] = int(note.group(1))
-    return out
 
 
 def source(m, name):

@@ -142,6 +142,22 @@ def callee(m, addr, depth):
     return None
 
 
+def stack_need(ops):
+    """How many cells the ops of one block take from below the data
+    stack's depth at the block's start, as far as that is known before the
+    block runs (up to the first Python code the compiler cannot see into:
+    a block checks again after it, Gen.python_call)."""
+    depth = low = 0
+    for i in ops:
+        effect = i.kind.stack_effect(i)
+        if effect is None:
+            break
+        taken, left = effect
+        low = min(low, depth - taken)
+        depth += left - taken
+    return -low
+
+
 def call_depth(ops):
     """How deep the inlined calls among ops (one block) take the return
     stack beyond its depth at the block's start, as far as that is known

@@ -105,6 +105,15 @@ def backtrace(m, rs, tb=None):
             if containing(m, (returns[i] - 2) & MASK, xts) == act[0]:
                 act[1], used = (returns[i] - 2) & MASK, i + 1
                 break
+    # Calls pasted into compiled code whose slow path ran them (a stack too
+    # short for the fast path, an interrupt due) left their return
+    # addresses, as the reference loop does: the innermost word's calls.
+    for r in returns[used:]:
+        cell = (r - 2) & MASK
+        callee = called(m, cell)
+        if running and callee is not None and containing(m, cell, xts) == running[-1][0]:
+            running[-1][1] = cell
+            running.append([callee, None])
     frames = []
     for i, (xt, cell) in enumerate(running):
         place = defined_at(m, xt) if i == len(running) - 1 or cell is None \
