@@ -23,7 +23,7 @@ few minutes with a machine at hand):
             b = 0
             while True:
                 if b <= 0:   # 198F  1- DUP 0= ?BRANCH      (block 0, the Forth it runs)
-                    if clk + 3000000 >= m.deadline or len(s) < 1:
+                    if clk + 3000000 >= m.deadline or not s:
                         m.clock = clk; clk = -1
                         _r = slow(m, G, SEQ0)    # exact: a primitive at a time
                         if _r is not None: return _r   # (the code changed: see below)
@@ -60,7 +60,7 @@ m.clock is now the truth (`clock_out`, `clock_in`).
 A fast path charges its block's whole cost at once, so a primitive that
 failed in the middle (a pop from an empty stack) would leave the clock
 ahead of the reference loop's. A block that takes cells from below its
-start checks the stack's depth with the deadline (`or len(s) < 1`,
+start checks the stack's depth with the deadline (`or len(s) < 2`,
 `need_check`): too short, the slow path runs it and fails where the
 reference loop does. (Python's line numbers cannot say which primitive
 failed: PyPy 7.3 reports lines a function does not have.)
@@ -414,7 +414,7 @@ class Gen(BlockGen, LoopGen):
         if need <= 0:
             return ""
         self.uses.add("s")
-        return " or len(s) < %d" % need
+        return " or not s" if need == 1 else " or len(s) < %d" % need   # (not s: no call)
 
     def depth_check(self, ops):
         """For a block with inlined calls: the condition under which one of
