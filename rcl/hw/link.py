@@ -567,6 +567,8 @@ class LinkBoard(Board):
                 self.ticking = True
                 self.ticked = self.ticked or event.order > self.timer_written
                 return self.run_tick(m, event)
+            if event.order < self.timer_written:
+                continue      # sent before the board took our last timer write: old news
             if self.ticking and not event["ticking"] and self.silent_now():
                 return self.watchdog_tripped(m)
             if self.ticked and not event["ticking"]:
