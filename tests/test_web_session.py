@@ -131,12 +131,19 @@ def test_a_stop_taken_at_a_tick_sends_the_motors_off_before_interrupted():
     """The page's stop flag, seen by the session at a tick's end in the
     middle of `1 MILES FORWARD`: a frame with every relay open goes out
     before ` Interrupted`, the word ends there, and the next move works."""
-    sent, asked = [], []
+    sent, ticks, stops = [], [], []
 
-    def stop_asked():                   # the page's flag: set once, when the wheels have driven 100 ticks
-        if s is not None and s.m.board.motor_latch:
-            asked.append(1)
-            return len(asked) == 100
+    def stop_asked():
+        # The page's flag: set once, when the wheels have driven 100 ticks
+        # and the page has drawn them driving (frames go out by the wall
+        # clock: at full speed 100 ticks could all fall between two).
+        if s is None or not s.m.board.motor_latch or stops:
+            return False
+        ticks.append(1)
+        if len(ticks) >= 100 and any(kind == "frame" and data["motor"] == 0x35
+                                     for kind, data in sent):
+            stops.append(1)
+            return True
         return False
     s = None
     s = Session(lambda kind, data: sent.append((kind, data)), rate=0, stop_asked=stop_asked)
