@@ -12,6 +12,7 @@ import pytest
 from _pytest.runner import runtestprotocol
 
 import suite_size
+from rcl.errors import ForthError
 
 pytest_plugins = ["pytester"]
 _cache = None
@@ -58,8 +59,7 @@ def pytest_runtest_makereport(item, call):
     report = outcome.get_result()
     error = call.excinfo.value if call.excinfo is not None else None
     report.starved = (report.failed and call.when == "call"
-                      and type(error).__name__ == "ForthError"
-                      and getattr(error, "code", None) in STARVED)
+                      and isinstance(error, ForthError) and error.code in STARVED)
 
 
 @pytest.hookimpl(tryfirst=True)

@@ -4,7 +4,6 @@ comparisons, with IF ... ELSE ... THEN on their flags (a pop that becomes
 a peek, a flag that a branch tests without making it, a value kept back
 and flushed), at random interrupt periods: the same output, stacks, clock
 and interrupt times."""
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 

@@ -333,10 +333,17 @@ class LinkBoard(Board):
         not schedule it) is kept: if the board's tick then stops, that is
         why. A write that waited (the port took no bytes: the board, or the
         line, did not read) is not our silence."""
-        gap = began - self.last_tx
-        if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
-            self.silent_for, self.heard_again = max(self.silent_for, gap), ended
+        if self.kept_silence(began - self.last_tx):
+            self.heard_again = ended
         self.last_tx = ended
+
+    def kept_silence(self, gap):
+        """A gap of ours beyond the board's watchdog, while running, is
+        kept in silent_for; -> whether it was."""
+        if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
+            self.silent_for = max(self.silent_for, gap)
+            return True
+        return False
 
     def port_failed(self, e):
         loss = Loss(Cause.PORT, "port: %s" % e)
@@ -591,9 +598,7 @@ class LinkBoard(Board):
         """Our silence past the board's watchdog: one a write has ended
         (silent_for), or one not yet ended, nothing sent since (this
         process was stopped, and the board's news is read first)."""
-        gap = time.monotonic() - self.last_tx
-        if gap > P.WATCHDOG_MS / 1000 and self.session.state is S.RUNNING:
-            self.silent_for = max(self.silent_for, gap)
+        self.kept_silence(time.monotonic() - self.last_tx)
         return self.silent_for
 
     def timer_was_written(self, reply):
@@ -730,12 +735,13 @@ class LinkBoard(Board):
 
     def tick_failed(self):
         self.replay.active = False
-        self.timer_was_written(None)
+        reply = None
         if not self.lost:
             try:
-                self.timer_was_written(self.request("TICK_FAILED"))
+                reply = self.request("TICK_FAILED")
             except P.LinkError:
                 self.lose(Loss(Cause.NO_ANSWER, "no answer to TICK_FAILED"))
+        self.timer_was_written(reply)
         self.due = None
 
     def status(self):
@@ -749,4 +755,3 @@ class LinkBoard(Board):
 def drain(q):
     while not q.empty():
         q.get_nowait()
-
