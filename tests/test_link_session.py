@@ -14,7 +14,8 @@ import pytest
 
 import rcl
 from rcl.hw.protocol import LinkError
-from rcl.hw.session import (ASKING, TRANSITIONS, Cause, IllegalTransition, Request, Session,
+from rcl.hw.session import (ASKING, TRANSITIONS, Cause, IllegalTransition, Loss, Request,
+                            Session,
                             State)
 
 S = State
@@ -125,6 +126,39 @@ def test_a_links_life_walks_the_documented_states():
     assert server.board.motor_latch == 0
     board.close()                                    # twice: nothing more happens
     assert board.session.state is S.CLOSED
+
+
+def test_leave_runs_first_before_the_move_and_only_when_it_moves():
+    s, seen = session_in(S.RUNNING), []
+    assert s.leave({S.RUNNING}, S.LOST, first=lambda: seen.append(s.state))
+    assert seen == [S.RUNNING] and s.state is S.LOST
+    assert not s.leave({S.RUNNING}, S.LOST, first=lambda: seen.append("again"))
+    assert seen == [S.RUNNING]
+
+
+def test_a_lost_link_asks_the_running_word_to_stop_before_it_says_lost():
+    # The reader thread loses the link while a word waits for a tick: the
+    # word, finding the link lost, must find its stop asked for already, or
+    # it runs on without a board (100 HALTs: Control loop stalled, seen in CI).
+    m = rcl.open(port="rclsim://?rate=4")
+    board, asked = m.board, []
+    request_stop = m.request_stop
+
+    def watched(error):
+        asked.append((board.lost, error.message))
+        request_stop(error)
+    m.request_stop = watched
+    try:
+        m.in_forth += 1                              # (a word runs)
+        board.lose(Loss(Cause.FRAME_GONE, "board frame 9 was not sent again"))
+        m.in_forth -= 1
+        assert asked == [(False, "Link lost")] and board.lost
+        assert board.why == "board frame 9 was not sent again"
+        assert m.break_pending and m.deadline == -1
+        board.lose(Loss(Cause.SILENT, "later"))      # said once: no second stop
+        assert len(asked) == 1 and board.why == "board frame 9 was not sent again"
+    finally:
+        board.close()
 
 
 def test_a_closed_connection_is_a_lost_link_of_cause_port():

@@ -223,3 +223,30 @@ def test_ctrl_c_stops_a_long_wait_with_a_relay_on_at_once(wait):
     assert stopped - wall < 60
     assert m.seconds - virtual < 3600                  # not left to run to the end
     assert motors_off(m)
+
+
+class BreakWhileLooked:
+    """An interrupt source whose `due` is read while another thread (a
+    link's reader) asks for a stop: the ask lands between reschedule's
+    test of break_pending and its write of the deadline."""
+    def __init__(self, m):
+        self.m, self.asked = m, False
+
+    @property
+    def due(self):
+        if not self.asked:
+            self.asked = True
+            self.m.request_break()
+        return self.m.clock + 1000
+
+    def service(self, m):
+        pass
+
+
+def test_a_break_asked_while_the_deadline_is_recomputed_stands():
+    m = rcl.Forth()
+    m.attach(BreakWhileLooked(m))          # (attach reschedules: the ask lands there)
+    assert m.break_pending and m.deadline == -1
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("BEGIN AGAIN")         # taken at the next primitive boundary
+    assert e.value.code == -28

@@ -398,6 +398,10 @@ class Inner:
             if src is not None and src.due is not None and src.due < limit:
                 limit = src.due
         self.deadline = limit if limit < d else d
+        if self.break_pending and not self.masked:
+            # A stop asked by another thread (a link's reader) between the
+            # test above and this write set -1 first: it must stand.
+            self.deadline = -1
 
     def interrupt(self, src):
         """Service src with interrupts masked and the handler's own stacks."""
@@ -471,7 +475,9 @@ class Inner:
             return self.s.pop()
         finally:
             self.clock = clock
-            self.deadline = -1 if self.break_pending else deadline
+            self.deadline = deadline
+            if self.break_pending:           # (asked meanwhile: stands, as in reschedule)
+                self.deadline = -1
 
     def advance_to(self, t):
         """Skip the clock forward to t, servicing every interrupt due on the

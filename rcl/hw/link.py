@@ -410,12 +410,18 @@ class LinkBoard(Board):
 
     def lose(self, loss, stop=True):
         """The link is gone: say so once, stop the running word."""
-        if self.session.leave({S.IDENTIFIED, S.RUNNING, S.LEAVING}, S.LOST):
+        m = self.machine
+
+        def stop_first():
+            # Before the state says LOST: the running word, finding the link
+            # lost (a tick wait, a request), must find its stop already asked
+            # for. Else, the reader thread losing, the word could run on 100
+            # HALTs with no board (Control loop stalled) before it is.
             self.loss, self.lost_at = loss, time.monotonic()
-            self.send(P.frame(self.seq, "SAFE"))       # if the board still hears
-            m = self.machine
             if stop and m is not None and (m.in_forth or m.masked):
                 m.request_stop(link_lost())
+        if self.session.leave({S.IDENTIFIED, S.RUNNING, S.LEAVING}, S.LOST, first=stop_first):
+            self.send(P.frame(self.seq, "SAFE"))       # if the board still hears
         self.due = None
 
     def usable(self):

@@ -68,11 +68,15 @@ class Session:
         with self.lock:
             self._move(to)
 
-    def leave(self, from_states, to):
-        """Move to `to` if the state is one of from_states; -> whether it moved."""
+    def leave(self, from_states, to, first=None):
+        """Move to `to` if the state is one of from_states; -> whether it
+        moved. first(), if given, runs just before the move, under the lock:
+        what another thread must find done once it sees the new state."""
         with self.lock:
             if self.state not in from_states:
                 return False
+            if first is not None:
+                first()
             self._move(to)
             return True
 
