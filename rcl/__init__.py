@@ -111,6 +111,7 @@ def open_link(port, usb, write, screens, image):
             from rcl.sim.observe import Sim
             m.sim = Sim(server.board)
         load_rcl(m, screens, image)
+        m.compile_ahead()     # the ticks are answered in real time from the first move
     except BaseException:
         board.close()         # a start that failed leaves no host connected
         raise

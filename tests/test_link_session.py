@@ -328,6 +328,26 @@ def test_a_reader_kept_from_reading_for_over_a_second_does_not_give_a_request_up
         board.close()
 
 
+def test_a_link_host_compiles_rcl_ahead_so_no_tick_of_a_move_waits_for_the_compiler():
+    # A word compiled at its first call costs a tick's answer tens of ms
+    # under load: past the board's patience, the wheels drive on the old
+    # command (the Uno image overshot by 1-2 counts from a fresh rcl).
+    m = rcl.open(port="rclsim://?rate=4")
+    compiled, compile_ = [], m.compile
+
+    def watched(addr):
+        compiled.append(m.dictionary.name_of((addr - 2) & 0xFFFF))
+        return compile_(addr)
+    m.compile = watched
+    try:
+        assert m.evaluate("RERB 2 MPH 3 INCHES FORWARD") == "" and compiled == []
+        m.invalidate()                               # (compiled code forgotten: the move compiles)
+        assert m.evaluate("RERB 2 MPH 3 INCHES FORWARD") == ""
+        assert {"(MOVE)", "(CONTROL)", "ADVANCE", "STOPPED"} <= set(compiled)
+    finally:
+        m.board.close()
+
+
 def test_a_tick_handler_of_many_writes_sends_them_all_in_order():
     # 25 writes in one tick take two TICK_DONE frames (19 a frame, as a
     # 64-byte payload holds); 20 in one frame were refused by the encoder,
