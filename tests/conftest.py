@@ -13,6 +13,7 @@ from _pytest.runner import runtestprotocol
 
 import suite_size
 from rcl.errors import ForthError
+from starved import Starved
 
 pytest_plugins = ["pytester"]
 _cache = None
@@ -49,7 +50,8 @@ def pytest_collection_modifyitems(config, items):
 # test they are the machine's doing when it starves the board or the host
 # (docs/testing.md: a pty the kernel does not move, a process not run for
 # 200 ms beside CPU hogs); such a test runs once more, asserting the same,
-# and the summary names it. Any other failure, or a second, stands.
+# and the summary names it; so does a test that found its own process was
+# not run in time (starved.py). Any other failure, or a second, stands.
 STARVED = (-292, -293)
 
 
@@ -59,7 +61,8 @@ def pytest_runtest_makereport(item, call):
     report = outcome.get_result()
     error = call.excinfo.value if call.excinfo is not None else None
     report.starved = (report.failed and call.when == "call"
-                      and isinstance(error, ForthError) and error.code in STARVED)
+                      and (isinstance(error, Starved)
+                           or isinstance(error, ForthError) and error.code in STARVED))
 
 
 @pytest.hookimpl(tryfirst=True)

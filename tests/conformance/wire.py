@@ -144,6 +144,7 @@ class Session:
         self.lockstep = False
         self.host_us = 0                # the time CLOCK last told a lockstep board
         self.last_sent = time.monotonic()
+        self.longest_silence = 0.0      # s between two of our writes, the longest (reset by rules)
 
     # ------------------------------------------------------------ bytes
     def send(self, data):
@@ -155,7 +156,9 @@ class Session:
                 select.select([], [self.fd], [], 0.05)
                 continue
             view = view[n:]
-        self.last_sent = time.monotonic()
+        now = time.monotonic()
+        self.longest_silence = max(self.longest_silence, now - self.last_sent)
+        self.last_sent = now
 
     def poll(self, timeout):
         ready, _, _ = select.select([self.fd], [], [], timeout)
