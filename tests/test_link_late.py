@@ -61,6 +61,7 @@ def test_a_late_host_on_a_lockstep_board_moves_as_on_time_and_is_never_told_it_i
         late_host(m, 0.060)
         assert m.evaluate("RERB 2 INCHES FORWARD") == ""
         assert m.board.late_answer is None
+        assert m.board.slowest_answer >= 0.060          # (measured all the same)
     finally:
         m.board.close()
 

@@ -37,6 +37,7 @@ import rcl
 from rcl.hw import protocol as P
 from firmware_support import (BoardProcess, harness_built, native_program,
                               uno_image)
+from starved import Starved
 from suite_size import scaled
 
 SESSIONS = scaled(20, 5)
@@ -148,7 +149,7 @@ def session(where, image, command=FIRST):
         m = rcl.open(port=where, image=image)
         try:
             left, right = (int(x) for x in m.evaluate(command + READ).split())
-            return left, right
+            return Counts(left, right, m.board.slowest_answer)
         except rcl.ForthError as e:   # say what the link saw (a loaded machine: Link lost)
             if e.code != HOST_TOO_SLOW or attempt == STALLS_ALLOWED:
                 raise AssertionError("%s; %s" % (e.message, m.board.status())) from None
@@ -171,6 +172,36 @@ def at_rest(where, image, sessions=10):
             pass
         finally:
             m.board.close()
+
+
+class Counts(tuple):
+    """A session's (left, right) counts, and its host's slowest answer to
+    a tick (s): past the board's patience, the wheels ran on meanwhile."""
+    def __new__(cls, left, right, slowest):
+        counts = super().__new__(cls, (left, right))
+        counts.slowest = slowest
+        return counts
+
+
+# How long each board waits for a host late with a tick's answer before it
+# runs on: rcl-board holds its time (lockstep), the native board up to 1 s,
+# the Uno harness 50 ms past its 5 ms slack (rcl-simavr: a held AVR sends
+# no HEARTBEAT, and the host must hear from it within 250 ms).
+PATIENCE = {"tcp": float("inf"), "pty": float("inf"), "native": 1.0, "uno": 0.055}
+
+
+def same_move(kind, counts, reference, slack=1):
+    """Assert the same move from rest (within_a_count). Counts that differ
+    after a host answered later than the board waits (this process not
+    run, beside CPU hogs) are the machine's doing: Starved, run once more."""
+    if within_a_count(counts, reference, slack):
+        return
+    slowest = max(counts.slowest, reference.slowest)
+    if slowest > PATIENCE[kind]:
+        raise Starved("%s then %s: a tick answered after %d ms, past the %s board's %d ms"
+                      % (reference, counts, slowest * 1000, kind, PATIENCE[kind] * 1000))
+    raise AssertionError("%s then %s (the slowest answer %.1f ms)"
+                         % (reference, counts, slowest * 1000))
 
 
 def within_a_count(counts, first, slack=1):
@@ -341,7 +372,8 @@ def test_sessions_one_after_another_on_one_running_board_drive_the_first_command
             raise AssertionError("session %d of %d: %s (first %s, then %s)"
                                  % (n, SESSIONS, e, first, later)) from None
     print("\n%s: first %s, then %s" % (kind, first, later))
-    assert all(within_a_count(counts, first, slack) for counts in later)
+    for counts in later:
+        same_move(kind, counts, first, slack)
 
 
 @pytest.mark.parametrize("kind", ["tcp", "native", "uno"])
@@ -362,7 +394,7 @@ def test_a_session_after_a_hostile_client_starts_clean_and_its_first_move_is_exa
     raw.close()
     after = session(b.where, image)
     print("\n%s: clean %s, after the hostile client %s" % (kind, clean, after))
-    assert within_a_count(after, clean)
+    same_move(kind, after, clean)
 
 
 def test_the_second_rcl_on_a_running_rcl_board_exits_0(running):

@@ -125,6 +125,11 @@ class LinkBoard(Board):
         return self.replay.late_answer
 
     @property
+    def slowest_answer(self):
+        """s from a TICK read to its last TICK_DONE sent, the slowest yet."""
+        return self.replay.slowest
+
+    @property
     def in_tick(self):
         return self.replay.active
 

@@ -39,6 +39,7 @@ class TickReplay:
         self.last_us = None              # HEARTBEAT's time_us, while no tick comes
         self.ticks = self.late = 0       # ticks run; run more than 2 ms after they came
         self.late_answer = None          # (delay s, tick, ticks): the worst recent
+        self.slowest = 0.0               # s, the slowest answer since the link opened
 
     def new_session(self):
         """IDENTIFY: tick numbers and times start again (the script stays:
@@ -128,6 +129,7 @@ class TickReplay:
         lockstep flag) runs on meanwhile: a delay over HOST_LATE is noted,
         the worst of the last LATE_WINDOW ticks kept."""
         delay = time.monotonic() - tick.arrived
+        self.slowest = max(self.slowest, delay)
         worst = self.late_answer
         if delay > HOST_LATE and not lockstep and (
                 worst is None or delay >= worst[0] or self.ticks - worst[2] > LATE_WINDOW):
