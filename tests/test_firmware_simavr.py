@@ -13,6 +13,7 @@ slows the board down instead of changing what it does."""
 import json
 import os
 import random
+import re
 import signal
 import struct
 import subprocess
@@ -293,7 +294,19 @@ def test_a_flood_of_garbage_both_ways_crashes_nothing_on_the_uno_image(uno, host
         # machine's pty that stood still on top of that made the host give
         # its request up (1 s) in CI and beside CPU hogs.
         assert sim.wait_for(lambda: sim.figures()["bytes_to_board"] >= before + len(garbage), 30)
-        m.evaluate("INSTALL")
+        try:
+            m.evaluate("INSTALL")
+        except rcl.ForthError as e:
+            # The flood into the host's line may land inside a board frame.
+            # The host's NAK for it waits behind the flood into the board's
+            # (0.26 s) while the board, ticking until its watchdog trips,
+            # sends 25 frames and keeps 16: the frame is gone, and Link lost
+            # is the protocol's verdict (docs/protocol.md section 3; beside
+            # three CPU hogs, 4 runs in 10). A new session sets RCL up again.
+            assert re.fullmatch(r"board frame \d+ was not sent again", m.board.why), \
+                (e, m.board.status())
+            print("\nINSTALL: %s; %s; connected again" % (e, m.board.status()))
+            assert m.evaluate("RECONNECT").startswith(" Link up")
         m.evaluate(LEGS)
         relay.flood(b"ATZ\r\n\x1b[2J" + garbage[:500])
         got = counts(m)
