@@ -144,14 +144,18 @@ def session(where, image, command=FIRST):
     (` Host too slow `: this process not scheduled for 250 ms, as on a
     machine with CPU hogs beside it) is a session the board rightly ended,
     motors off: the next host starts one again, as a user would, once the
-    wheels stand still, and its counts are asserted as any session's."""
+    wheels stand still, and its counts are asserted as any session's. A
+    third in a row raises Starved: the whole test runs once more."""
     for attempt in range(STALLS_ALLOWED + 1):
         m = rcl.open(port=where, image=image)
         try:
             left, right = (int(x) for x in m.evaluate(command + READ).split())
             return Counts(left, right, m.board.slowest_answer)
         except rcl.ForthError as e:   # say what the link saw (a loaded machine: Link lost)
-            if e.code != HOST_TOO_SLOW or attempt == STALLS_ALLOWED:
+            if e.code == HOST_TOO_SLOW and attempt == STALLS_ALLOWED:
+                # starved session after starved session: the test runs once more
+                raise Starved("%s; %s" % (e.message, m.board.status())) from None
+            if e.code != HOST_TOO_SLOW:
                 raise AssertionError("%s; %s" % (e.message, m.board.status())) from None
             print("\nsession again after: %s; %s" % (e.message, m.board.status()))
         finally:
