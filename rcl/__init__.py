@@ -112,7 +112,9 @@ def open_link(port, usb, write, screens, image):
             m.sim = Sim(server.board)
         load_rcl(m, screens, image)
         m.compile_ahead()     # the ticks are answered in real time from the first move
-    except BaseException:
+    except BaseException as e:
+        if getattr(e, "code", None) == -292 and board.why and board.why not in e.message:
+            e.message = "%s (%s)" % (e.message, board.why)   # why, said before the link closes
         board.close()         # a start that failed leaves no host connected
         raise
     return m

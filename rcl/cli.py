@@ -226,7 +226,7 @@ def open_on_link(args, write):
     from rcl.hw.protocol import LinkError
     try:
         return rcl.open(write=write, port=args.port, usb=args.usb, image=args.image)
-    except (LinkError, rcl.ForthError) as e:
+    except LinkError as e:
         sys.stderr.write("rcl: %s\n" % e)
         raise SystemExit(2) from None
     except rcl.ForthError as e:          # e.g. Link lost while RCL loads: said, not "internal"

@@ -248,6 +248,42 @@ def test_rcl_refuses_a_bad_usb_url_plainly(spelling):
     assert "Traceback" not in run.stderr
 
 
+# A simulated board whose line goes silent, for good, after it has acted
+# on 40 requests: RCL is loading (it asks 84 in all), whatever the clock.
+CUT_WHILE_LOADING = """
+from rcl.hw.server import BoardServer
+act = BoardServer.act
+def cut_while_loading(server, f):
+    if server.stats["acted"] >= 40:
+        server.cut_link()
+    return act(server, f)
+BoardServer.act = cut_while_loading
+"""
+
+
+def test_a_link_lost_while_rcl_loads_says_why_in_the_error_rcl_open_raises():
+    namespace = {}
+    exec(CUT_WHILE_LOADING, namespace)
+    try:
+        with pytest.raises(rcl.ForthError) as e:
+            rcl.open(port="rclsim://")
+    finally:
+        from rcl.hw.server import BoardServer
+        BoardServer.act = namespace["act"]
+    assert e.value.code == -292 and e.value.file is not None
+    assert e.value.message == "Link lost (no frame from the board for 250 ms)"
+
+
+def test_rcl_says_the_link_was_lost_while_loading_rcl_and_why():
+    run = subprocess.run(
+        [sys.executable, "-c", CUT_WHILE_LOADING + "import rcl.cli, sys\n"
+         "sys.exit(rcl.cli.main(['--port', 'rclsim://', '-e', 'BYE']))"],
+        input="", capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2 and "Traceback" not in run.stderr
+    assert run.stderr.startswith("rcl: loading RCL onto the board: ")
+    assert run.stderr.endswith(": Link lost (no frame from the board for 250 ms)\n")
+
+
 # --------------------------------------- a busy host is not a silent board
 @pytest.fixture
 def wall_judged():
