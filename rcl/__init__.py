@@ -113,7 +113,7 @@ def open_link(port, usb, write, screens, image):
         load_rcl(m, screens, image)
         m.compile_ahead()     # the ticks are answered in real time from the first move
     except BaseException as e:
-        if getattr(e, "code", None) == -292 and board.why and board.why not in e.message:
+        if isinstance(e, ForthError) and e.code == -292 and board.why:
             e.message = "%s (%s)" % (e.message, board.why)   # why, said before the link closes
         board.close()         # a start that failed leaves no host connected
         raise

@@ -389,9 +389,6 @@ class Inner:
         d = self.hk_next
         if self.masked:
             limit = self.handler_deadline
-        elif self.break_pending:
-            self.deadline = -1
-            return
         else:
             limit = self.clock_limit
             src = self.irq
@@ -399,8 +396,8 @@ class Inner:
                 limit = src.due
         self.deadline = limit if limit < d else d
         if self.break_pending and not self.masked:
-            # A stop asked by another thread (a link's reader) between the
-            # test above and this write set -1 first: it must stand.
+            # A pending break is taken at once. Tested after the write: a stop
+            # another thread (a link's reader) asks meanwhile set -1 first.
             self.deadline = -1
 
     def interrupt(self, src):

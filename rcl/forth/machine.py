@@ -165,8 +165,9 @@ class Forth(Inner, Outer):
         for wid in d.wordlists():
             for lfa in d.lfas(wid):
                 xt = (lfa + 2) & MASK
-                if fetch(xt) == inner.DOCOL and (xt + 2) & MASK not in self.fn:
-                    self.compile((xt + 2) & MASK)
+                body = (xt + 2) & MASK
+                if fetch(xt) == inner.DOCOL and body not in self.fn:
+                    self.compile(body)
                     n += 1
         return n
 
