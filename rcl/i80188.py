@@ -1,8 +1,9 @@
 """The 80188 board's addresses, in one place: the peripheral control block
 (PCB) registers and bits, the interrupt types and vectors, and the BIOS
-data area (reference/board-hardware.md sections 3 and 5.7, Intel's 80188
-data sheet). The simulated chips (rcl/sim), RCL's CODE words (rcl/words),
-the link (rcl/hw) and the host's tools all take them from here.
+data area (Intel's 80188 data sheet; the BIOS keeps the IBM PC's tick
+count, and docs/protocol.md section 4 lists the addresses a board serves).
+The simulated chips (rcl/sim), RCL's CODE words (rcl/words), the link
+(rcl/hw) and the host's tools all take them from here.
 
     I/O space                         memory (seg * 16 + off)
     0xFF00  PCB_BASE                  0000:0020  vector of type 8 (timer 0)

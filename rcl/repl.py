@@ -3,7 +3,7 @@ injected machine.
 
 It holds no Forth semantics: the machine interprets each line and says
 whether it is compiling; an error carries its own F83 screen text. The
-shell only draws, the way F83's QUIT loop does (f83-semantics.md 9.2):
+shell only draws, the way F83's QUIT loop does (docs/guide.md section 1):
 
     CR, read a line       2 3 + .          the user's line, echoed
     Enter echoes a blank         ^         (one blank, not a new line)

@@ -1,9 +1,9 @@
 """The R-E Robot's hardware facts that are not the simulation: its port
-map, the relay and status bits, the wheels' geometry and units
-(reference/board-hardware.md, tags as in rcl/sim/constants.py). The
-simulator (rcl/sim), the trace reader (rcl/track.py) and the robot
-assertions (rcl/testing) take them from here; the simulator's own model
-parameters stay in rcl/sim/constants.py.
+map, the relay and status bits, the wheels' geometry and units (tagged
+as in rcl/sim/constants.py; docs/guide.md section 13 says why the
+geometry is what it is). The simulator (rcl/sim), the trace reader
+(rcl/track.py) and the robot assertions (rcl/testing) take them from
+here; the simulator's own model parameters stay in rcl/sim/constants.py.
 
     MOTOR latch 0x88   7  6  5     4     3      2     1      0
                        -  -  M2-GO M1-GO M2-REV M2-ON M1-REV M1-ON
@@ -17,7 +17,7 @@ import math
 from rcl import i80188
 
 # ---------------------------------------------------------------------------
-# GEOMETRY AND UNITS (sections 7.1, 7.2, 7.4)
+# GEOMETRY AND UNITS (docs/guide.md section 13)
 # ---------------------------------------------------------------------------
 
 WHEEL_CIRC_IN = 17.6                # 1 MPH = 1 wheel rev/s [PROPOSAL]
@@ -29,7 +29,7 @@ CRPM_MAX = 30_000                   # internal speed limit, centi-rpm, 300 rpm [
 G_IN_S2 = 386.4                     # 1 G = 32.2 ft/s^2 [ARTICLE]
 
 # ---------------------------------------------------------------------------
-# PORT MAP (section 5.1)
+# PORT MAP
 # ---------------------------------------------------------------------------
 
 LEFT_8253 = 0x80                    # 8253 #1, motor 1 = left wheel [PROPOSAL]
@@ -39,14 +39,14 @@ AUX_PORT = 0x89                     # AUX latch: arm, gripper, beeper [PROPOSAL]
 STATUS_PORT = 0x8A                  # STATUS input, read-only [PROPOSAL]
 PCB_BASE = i80188.PCB_BASE          # 80188 peripheral control block [INTEL]
 
-# 8253 counter offsets from LEFT_8253 / RIGHT_8253 (section 5.2) [PROPOSAL]
+# 8253 counter offsets from LEFT_8253 / RIGHT_8253 [PROPOSAL]
 CTR_SPEED = 0                       # counter 0: speed reference, mode 3 [ARTICLE]
 CTR_FORWARD = 1                     # counter 1: forward encoder counts [ARTICLE]
 CTR_REVERSE = 2                     # counter 2: reverse encoder counts [ARTICLE]
 CTR_CONTROL = 3                     # control word register [INTEL]
 
 # ---------------------------------------------------------------------------
-# MOTOR LATCH BITS, port 0x88 (section 5.3) [PROPOSAL]
+# MOTOR LATCH BITS, port 0x88 [PROPOSAL]
 # ---------------------------------------------------------------------------
 
 M1_ON = 0x01                        # bit 0: left relay closed (0 = braking short)
@@ -57,7 +57,7 @@ M1_GO = 0x10                        # bit 4: left PLL and drive current on
 M2_GO = 0x20                        # bit 5: right PLL and drive current on
 
 # ---------------------------------------------------------------------------
-# AUX LATCH BITS, port 0x89 (section 5.4) [PROPOSAL]
+# AUX LATCH BITS, port 0x89 [PROPOSAL]
 # ---------------------------------------------------------------------------
 
 ARM_ON = 0x01                       # bit 0: lift motor running
@@ -68,7 +68,7 @@ BEEPER = 0x10                       # bit 4: piezo beeper sounding
 RELAYS_AUX_SHIFT = 8                # AUX byte is the high byte of RCL's RELAYS cell
 
 # ---------------------------------------------------------------------------
-# STATUS BITS, port 0x8A (section 5.5) [PROPOSAL]
+# STATUS BITS, port 0x8A [PROPOSAL]
 # ---------------------------------------------------------------------------
 
 ARM_TOP = 0x01                      # bit 0: lift at its upper limit switch

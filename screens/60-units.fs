@@ -37,7 +37,7 @@ VARIABLE SPEED-UNIT   1 SPEED-UNIT !
 : FPM  ( num -- )   FIXED (FPM) ;   \ the base's top speed, feet a minute
 
 \ G: accelerations are kept as crpm per 10 ms tick, converted at once:
-\ ACCEL = max(1, round(V4 x 1449 / 11000)), so 0.1 G is 132 (BH 7.4).
+\ ACCEL = max(1, round(V4 x 1449 / 11000)), so 0.1 G is 132 (docs/guide.md 13).
 VARIABLE ACCEL   132 ACCEL !
 : (G)  ( fx -- )
    POSITIVE ABORT" Bad acceleration"

@@ -22,7 +22,7 @@ CREATE SPEED-RATIOS   3 , 5 ,   3 , 88 ,   9 , 22 ,   3 , 440 ,
    >R 3000000. R@ 0 D+ R> 2* UM/MOD NIP ;
 \ Below 23 crpm the count would pass 65536: UM/MOD's no-trap overflow
 \ (F83) gives 65535 then, as good as the slowest count. The word for
-\ users clamps as the reference says: 50 to 65536, 65536 written as 0.
+\ users keeps the count within 50 (5 MPH) and 65536, written as 0.
 : >REF  ( c -- u )   \ 8253 count for speed c crpm
    DUP 23 U< IF DROP 0 EXIT THEN  DUP 30000 U> IF DROP 30000 THEN  (>REF) ;
 

@@ -28,7 +28,7 @@
  * programmed into timer 0 runs at this one. */
 #define TICK_MIN_HALF_US 5000UL
 
-/* The emulated board (board-hardware.md, the R-E Robot's port map) */
+/* The emulated board: the R-E Robot's port map (docs/firmware.md, "What it emulates") */
 #define LEFT_8253 0x80
 #define RIGHT_8253 0x84
 #define MOTOR_PORT 0x88

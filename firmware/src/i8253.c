@@ -1,4 +1,4 @@
-/* The 8253 of i8253.h, after board-hardware.md section 2. */
+/* The 8253 of i8253.h, after Intel's data sheet (docs/firmware.md, "What it emulates"). */
 #include "i8253.h"
 
 #define NO_MODE 0xFF

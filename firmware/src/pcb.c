@@ -1,4 +1,4 @@
-/* The peripheral control block of pcb.h (board-hardware.md section 3). */
+/* The peripheral control block of pcb.h (docs/firmware.md, "What it emulates"). */
 #include "pcb.h"
 
 #define T_WRITABLE 0x203Fu          /* INT, MC, RTG, P, EXT, ALT, CONT */

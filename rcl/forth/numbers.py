@@ -1,5 +1,5 @@
-"""Number conversion, F83's way (f83-semantics.md section 4), with the
-Forth 2012 prefixes (#decimal $hex %binary 'c').
+"""Number conversion, F83's way (docs/forth2012.md, "Core: F83's meanings"),
+with the Forth 2012 prefixes (#decimal $hex %binary 'c').
 
     "-9.999"  ->  Number(value=-9999, dpl=3)    a double: DPL >= 0
     "725"     ->  Number(value=725, dpl=-1)     a single: DPL = -1

@@ -2,7 +2,7 @@
 chips, the 80188's 1 MiB memory, the simulated BIOS, and the physics, all
 driven by the Forth machine's virtual clock.
 
-    port        chip                             (board-hardware.md 5.1)
+    port        chip                             (names in rcl/robot.py)
     0x80-0x83   I8253 #1: left speed ref, left fwd/rev encoder counts
     0x84-0x87   I8253 #2: right speed ref, right fwd/rev encoder counts
     0x88        MOTOR latch (write-only)   0x89 AUX latch (write-only)

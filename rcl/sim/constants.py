@@ -1,13 +1,13 @@
-"""Constants of the simulated R-E Robot board, from reference/board-hardware.md:
-the simulator's own (clocks, motor and PLL model, arm and gripper), and,
-imported here so the simulator has them under one name, the robot's
-hardware facts (rcl/robot.py: port map, bits, geometry) and the 80188's
-(rcl/i80188.py). Every number of the hardware has one name and one tag
-(section 8 of the reference):
+"""Constants of the simulated R-E Robot board: the simulator's own (clocks,
+motor and PLL model, arm and gripper), and, imported here so the simulator
+has them under one name, the robot's hardware facts (rcl/robot.py: port
+map, bits, geometry) and the 80188's (rcl/i80188.py). Every number of the
+hardware has one name and one tag saying where it comes from:
 
     ARTICLE   stated by the Radio-Electronics article (the seed document)
     INTEL     standard behaviour of the Intel part (8253, 80186/80188)
-    PROPOSAL  a decision of the reference that makes the simulator concrete
+    PROPOSAL  chosen here where the article is silent, so that the
+              simulator is concrete (the real board may have differed)
     derived   computed here from the numbers above it (tag of its sources)
 
 Bit constants are masks (1 << bit), ready for `byte & MASK`; rcl/robot.py
@@ -23,7 +23,7 @@ from rcl.robot import (  # noqa: F401  (the hardware facts, one name each)
     GRIP_CLOSED, M1_LOCK, M2_LOCK, CHARGER)
 
 # ---------------------------------------------------------------------------
-# CLOCKS AND COUNTERS (sections 1, 2, 3.4)
+# CLOCKS AND COUNTERS
 # ---------------------------------------------------------------------------
 
 F_8253_CLK = 125_000                # Hz, 2 MHz / 16 into each 8253 [ARTICLE]
@@ -38,7 +38,7 @@ TICKS_PER_DAY_BIOS = 1_573_040      # PC value, 0x1800B0 [PROPOSAL]
 TICK_S = 0.010                      # RCL control tick, 100 per second [ARTICLE]
 
 # ---------------------------------------------------------------------------
-# DRIVE MOTOR + PLL MODEL (section 6.1)
+# DRIVE MOTOR + PLL MODEL (rcl/sim/motors.py)
 # ---------------------------------------------------------------------------
 
 A_MOTOR_G = 0.5                     # drive torque limit as an acceleration [PROPOSAL]
@@ -51,7 +51,7 @@ PLL_LOCK_TOLERANCE = 0.05           # lock bit: |rate| within 5 % of f_ref [PROP
 SUB_STEP_S = 0.001                  # physics sub-step, 10 per control tick [PROPOSAL]
 
 # ---------------------------------------------------------------------------
-# ARM AND GRIPPER (section 5.6)
+# ARM AND GRIPPER
 # ---------------------------------------------------------------------------
 
 ARM_SPEED_IN_S = 1.0                # lift speed [PROPOSAL]
@@ -60,7 +60,7 @@ GRIP_SPEED_IN_S = 0.5               # jaw speed [PROPOSAL]
 GRIP_TRAVEL_IN = 3.0                # jaw opening 0.0 .. 3.0 in, power-on 0.0 [PROPOSAL]
 
 # ---------------------------------------------------------------------------
-# MEMORY AND INTERRUPTS (sections 3.3, 5.7)
+# MEMORY AND INTERRUPTS
 # ---------------------------------------------------------------------------
 
 FORTH_CS = 0x1000                   # segment GET-CS returns [PROPOSAL]

@@ -21,7 +21,7 @@ Offsets 0, 1, 2 are the counters.  Each one:
     write --> CR (count register) --> CE (counting element, CLK steps it)
     read  <-- OL (output latch: follows CE, or frozen by a latch command)
 
-Datasheet facts modelled (reference/board-hardware.md section 2):
+Datasheet facts modelled (Intel's 8253 data sheet):
 
 - control word decoding; SC=11 (the 8254's read-back) is ignored; M=110 and
   111 are modes 2 and 3; a control word resets both byte flip-flops, sets

@@ -1,12 +1,13 @@
 """Physics of the R-E Robot: drive wheels with their PLL, arm, gripper, pose.
 
-Section 6 of reference/board-hardware.md, integrated in 1 ms sub-steps. The
-classes have no clock and do no I/O: the board latches the MOTOR and AUX
-bytes, knows each motor's reference frequency from its 8253 counter 0, calls
-`Drive.advance` for the sub-steps since it last did (stepped one at a time
-while a rate changes, `Drive._stepped`; at once while the wheels hold their
-rates, `Drive.cruise`), feeds the returned pulses to counters 1 and 2, and
-answers STATUS reads with `Drive.status_byte`.
+The model below, integrated in 1 ms sub-steps (its numbers are in
+constants.py). The classes have no clock and do no I/O: the board latches
+the MOTOR and AUX bytes, knows each motor's reference frequency from its
+8253 counter 0, calls `Drive.advance` for the sub-steps since it last did
+(stepped one at a time while a rate changes, `Drive._stepped`; at once
+while the wheels hold their rates, `Drive.cruise`), feeds the returned
+pulses to counters 1 and 2, and answers STATUS reads with
+`Drive.status_byte`.
 
     MOTOR byte --+--> Wheel (left,  motor 1) --(fwd, rev)--> 8253 #1 CLK1/CLK2
     f_ref L, R --+--> Wheel (right, motor 2) --(fwd, rev)--> 8253 #2 CLK1/CLK2
@@ -114,7 +115,7 @@ class Wheel:
         self._drag_dt = self.A_MAX * self._load * dt
 
     def step(self, on, rev, go, f_ref, dt=C.SUB_STEP_S):
-        """Run one sub-step of section 6.1; return (fwd_pulses, rev_pulses)."""
+        """Run one sub-step of the wheel model above; return (fwd_pulses, rev_pulses)."""
         if dt != self._dt:
             self._set_dt(dt)
         self.go = go
@@ -279,8 +280,8 @@ class Gripper(LeadScrew):
 
     Fault `object_width` (inches, None = nothing held): closing jaws that are
     at least that far open stall at that width. `closed` is the GRIP-CLOSED
-    bit: fully closed, or stalled on the object by a closing step (the
-    reference's current sense; it stays set, motor on or off, until the jaws
+    bit: fully closed, or stalled on the object by a closing step (a
+    current sense on the board; it stays set, motor on or off, until the jaws
     open or the object or position is changed). Passing the width while
     opening does not set it.
     """
@@ -340,7 +341,7 @@ class Gripper(LeadScrew):
 
 
 # ---------------------------------------------------------------------------
-# ROBOT POSE (section 6.2)
+# ROBOT POSE
 # ---------------------------------------------------------------------------
 
 class Robot:
@@ -590,7 +591,7 @@ class Drive:
             self.beeper_s += dt
 
     def status_byte(self, f_ref_left, f_ref_right):
-        """The STATUS port byte of section 5.5 (1 = active, bit 7 reads 0)."""
+        """The STATUS port byte (rcl/robot.py: 1 = active, bit 7 reads 0)."""
         lift, grip = self.lift, self.gripper
         return ((C.ARM_TOP if lift.top else 0)
                 | (C.ARM_BOTTOM if lift.bottom else 0)

@@ -1,6 +1,6 @@
 """The 80188's three timers and the interrupt-controller registers they use.
 
-One chip of the simulated board (reference/board-hardware.md section 3):
+One chip of the simulated board, as Intel's 80186/80188 data sheet has it:
 the timer unit of the peripheral control block (PCB, I/O 0xFF00-0xFFFF)
 and the part of the interrupt controller that handles the shared timer
 request. Registers are 16-bit and addressed by their offset from the PCB
@@ -77,7 +77,7 @@ from rcl.i80188 import (ALT, CONT, EN, EOI_NONSPECIFIC, EOI_REG, EOI_TIMER, EXT,
                         TMR_BIT)
 
 # ---------------------------------------------------------------------------
-# CONSTANTS (board-hardware.md sections 3, 5.7, 8)
+# CONSTANTS (tags as in rcl/sim/constants.py)
 # ---------------------------------------------------------------------------
 
 CPU_HZ = 8_000_000                  # 80188 clock [PROPOSAL]
@@ -235,7 +235,8 @@ class Timer80188:
 
     @classmethod
     def power_on(cls, now=0):
-        """The chip as the board BIOS leaves it (board-hardware.md 5.7)."""
+        """The chip as the board BIOS leaves it (docs/protocol.md section 6,
+        "Sessions": timer 2 prescaling by 3, timer 0 at 36,617 counts)."""
         chip = cls(now)
         chip.write16(0x62, T2_PRESCALE, now)
         chip.write16(0x66, T2_RUNNING, now)

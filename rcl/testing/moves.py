@@ -18,7 +18,7 @@ from rcl.sim import constants as C
 from rcl.sim.board import SimBoard
 
 # (left reverse?, right reverse?) -> the command that sets the relays so
-# (board-hardware.md 5.3: CW is left forward, right reverse).
+# (CW, turning right, runs the left wheel forward and the right in reverse).
 BASE_MOVES = {(False, False): "FORWARD", (True, True): "BACKWARD",
               (True, False): "LEFT", (False, True): "RIGHT"}
 GO = C.M1_GO | C.M2_GO

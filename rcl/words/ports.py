@@ -1,5 +1,6 @@
 """Port I/O and far memory: how Forth reaches the board (F83's CPU8086.BLK
-words, and the far-memory additions of board-hardware.md 5.7).
+words, and L@ L! LC@ LC! for the 80188's 1 MiB, added here where F83 would
+write CODE words).
 
 Each goes through the machine's board (rcl/board.py); a bare machine's
 NullBoard floats every port at 0xFF. Port words end a compiled block

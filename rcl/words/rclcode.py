@@ -1,6 +1,7 @@
 """The CODE words of RCL: what the article wrote in 80188 assembly because
 it runs inside the 10 ms interrupt (the position counters), plus the
-delays f83-semantics.md section 13 lets a VM provide as primitives.
+delays ((MS), WAIT-UNTIL's skip): primitives that take the virtual time
+their Forth loops would (docs/ARCHITECTURE.md, "Time").
 
 They stay out of the dictionary until an RCL screen binds them with
 `CODE name ... END-CODE`, as the original screens did.
@@ -35,7 +36,7 @@ from rcl.forth.primitives import CALL, prim
 from rcl.i80188 import (EN, INT, PCB_BASE, T0_CONTROL, TIMER_CONTROL_REG, TIMER_MASK,
                         VECTOR_USER_TICK, vector_address)
 
-BASES = (0x80, 0x84)            # left and right 8253 (board-hardware.md 5.1)
+BASES = (0x80, 0x84)            # left and right 8253 (rcl/robot.py's port map)
 CODE_COST = 60 * 36_000         # 60 us: latch and read two counters on the 80188
 
 
@@ -64,7 +65,7 @@ def state_addr(m):
     return table(m, "CNT-STATE")
 
 
-@prim("INIT-COUNTERS", "( -- ) program both 8253s (BH 5.2), zero the totals",
+@prim("INIT-COUNTERS", "( -- ) program both 8253s (0 mode 3, 1 and 2 mode 2), zero the totals",
       hidden=True, cost=CODE_COST)
 def init_counters(m):
     b = m.board
