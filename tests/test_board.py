@@ -1,5 +1,6 @@
 """The simulated board, driven from Forth through its ports as RCL drives
-it (board-hardware.md sections 3-6), with the reference's numbers."""
+it (rcl/sim: the 80188's timers, the 8253s, the latches, the motor model),
+with the numbers of rcl/sim/constants.py and docs/guide.md section 13."""
 import io
 import pathlib
 

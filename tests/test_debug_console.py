@@ -15,7 +15,7 @@ pexpect = pytest.importorskip("pexpect")
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TIMEOUT = 60
-MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO (board-hardware.md 5.3)
+MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO: MOTOR latch bits 0, 2, 4, 5
 ESCAPES = re.compile(r"\x1b7.*?\x1b8|\x1b\[[0-9;?]*[A-Za-z]|\r", re.S)
 # TRIP's first row (listing5.fs line 19) and its BACKWARD, run plainly,
 # observed by a BREAK: that costs no time

@@ -11,7 +11,7 @@ from rcl.forth import stepper
 from rcl.forth.primitives import BY_NAME
 
 EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
-MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO (board-hardware.md 5.3)
+MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO: MOTOR latch bits 0, 2, 4, 5
 # TRIP's first row (listing5.fs line 19) and its BACKWARD, as a word of its
 # own, with a BREAK: (which costs no time) to see where BACKWARD ended
 TRIP1 = ": TRIP1  WARNING RERB 20 IPS 3 FEET BACKWARD BREAK: TURN-AROUND ;"

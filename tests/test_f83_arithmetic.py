@@ -1,6 +1,7 @@
 """Arithmetic: flags, NOT, mixed multiply/divide, doubles, RCL-support words.
 
-Spec: f83-semantics.md sections 2 and 3. Results are read back signed through
+Spec: F83's flags and arithmetic (docs/forth2012.md, "Core: F83's meanings").
+Results are read back signed through
 `Forth.stack`; a double shows as [low, high].
 """
 import pytest
@@ -16,7 +17,7 @@ def stack_after(forth, text):
 
 
 # ---------------------------------------------------------------------------
-# Section 2: truth values and NOT
+# Truth values and NOT
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, result", [
@@ -55,7 +56,7 @@ def test_on_and_off_store_a_flag_at_an_address(forth, word, value):
 
 
 # ---------------------------------------------------------------------------
-# Section 3: mixed and multiply/divide words
+# Mixed and multiply/divide words
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, result", [
@@ -210,7 +211,7 @@ def test_within_excludes_the_upper_limit(forth, text, flag):
 
 
 # ---------------------------------------------------------------------------
-# Section 3: double numbers
+# Double numbers
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, result", [
@@ -318,7 +319,7 @@ def test_d_two_star_and_d_two_slash_shift_across_cells(forth, text, result):
 
 
 # ---------------------------------------------------------------------------
-# Section 3: RCL-support extensions (not in F83)
+# RCL-support extensions (not in F83)
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, result", [

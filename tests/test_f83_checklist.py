@@ -1,7 +1,8 @@
-"""F83 conformance checklist: f83-semantics.md section 14, items 1 to 11.
+"""F83 conformance checklist: eleven one-line checks of where F83 is not
+other Forths (docs/forth2012.md, "Core: F83's meanings").
 
-Each test is one checklist item as the spec words it (item 5 is tested both
-in strict F83 mode and with RCL literals, rcl-words.md section 2).
+Each test is one item, as the comment above it words it (item 5 is tested
+both in strict F83 mode and with RCL literals, docs/guide.md section 3).
 """
 import pytest
 

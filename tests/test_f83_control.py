@@ -1,6 +1,7 @@
 """Control structures: IF, BEGIN loops, DO loops, LEAVE, and pairing checks.
 
-Spec: f83-semantics.md section 5 (and section 2 for "any non-zero is true").
+Spec: F83's control structures (docs/forth2012.md, "Core: F83's meanings":
+DO loops, and any non-zero flag is true).
 """
 import pytest
 

@@ -1,6 +1,7 @@
 """Defining words, the dictionary, names and vocabularies.
 
-Spec: f83-semantics.md section 6 (and 13a for FORGET).
+Spec: F83's defining words (docs/forth2012.md, "Core: F83's meanings", and
+"Programming-Tools" for FORGET).
 """
 import pytest
 

@@ -1,6 +1,7 @@
 """Comments, strings, output words, errors and the screen text of the prompt.
 
-Spec: f83-semantics.md sections 7, 8 and 9 (and 13a for DUMP, WORDS, SEE).
+Spec: F83 2.1.0's behaviour (docs/forth2012.md, "Core: F83's meanings", and
+"Programming-Tools" for DUMP, WORDS, SEE; the prompt: docs/guide.md section 1).
 """
 import re
 
@@ -19,7 +20,7 @@ def error_from(forth, text):
 
 
 # ---------------------------------------------------------------------------
-# Section 7: comments and strings
+# Comments and strings
 # ---------------------------------------------------------------------------
 
 def test_paren_comment_is_ignored_while_interpreting(forth):
@@ -97,7 +98,7 @@ def test_abort_empties_the_data_stack(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 8: output words
+# Output words
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, printed", [
@@ -171,7 +172,7 @@ def test_see_decompiles_a_colon_definition(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 9: errors
+# Errors
 # ---------------------------------------------------------------------------
 
 def test_drop_on_an_empty_stack_is_stack_underflow(forth):
@@ -201,7 +202,7 @@ def test_error_inside_a_definition_returns_to_interpreting(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 9.2-9.4: exact screen text at the prompt
+# The exact screen text at the prompt
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("typed, screen", [

@@ -1,6 +1,7 @@
 """Number input: F83 conversion, DPL, BASE, wrap-around and doubles in memory.
 
-Spec: f83-semantics.md sections 1 and 4; RCL literals: rcl-words.md section 2.
+Spec: F83's cells and number input (docs/forth2012.md, "Core: F83's meanings");
+RCL literals: docs/guide.md section 3.
 Cells are read back signed through `Forth.stack` (low cell, then high cell).
 """
 import pytest
@@ -22,7 +23,7 @@ def error_from(forth, text):
 
 
 # ---------------------------------------------------------------------------
-# Section 4.3: the worked-examples table (decimal base)
+# Worked examples (decimal base)
 # ---------------------------------------------------------------------------
 
 # typed, cells pushed (signed, low then high), DPL afterwards
@@ -67,8 +68,8 @@ def test_failed_conversion_of_one_point_two_x_still_counted_dpl_one(forth):
 
 
 def test_token_of_punctuation_without_any_digit_is_not_a_number(forth):
-    # The table's `-` row: no digit at all. A bare `-` is the subtraction
-    # word, so the rule is exercised with a punctuation-only non-word.
+    # No digit at all is no number. A bare `-` is the subtraction word, so
+    # the rule is exercised with a punctuation-only non-word.
     assert error_from(forth, "-.").code == -13
 
 
@@ -88,7 +89,7 @@ def test_over_long_double_wraps_modulo_two_to_the_thirty_second(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 4.2: singles wrap to 16 bits
+# Singles wrap to 16 bits
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("typed, cell", [
@@ -107,7 +108,7 @@ def test_forty_thousand_prints_unsigned_with_u_dot(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 1: single-cell arithmetic is modulo 2^16
+# Single-cell arithmetic is modulo 2^16
 # ---------------------------------------------------------------------------
 
 def test_largest_positive_cell_plus_one_wraps_to_most_negative(forth):
@@ -138,7 +139,7 @@ def test_two_fetch_reads_the_high_cell_from_the_lower_address(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 4.5: BASE
+# BASE
 # ---------------------------------------------------------------------------
 
 def test_machine_starts_in_decimal(forth):
@@ -180,7 +181,7 @@ def test_digit_eight_is_not_a_digit_in_octal(forth):
 
 
 # ---------------------------------------------------------------------------
-# Section 4.2 compiled numbers, and RCL literals (rcl-words.md section 2)
+# Compiled numbers, and RCL literals (docs/guide.md section 3)
 # ---------------------------------------------------------------------------
 
 def test_compiled_single_literal_pushes_one_cell(forth):

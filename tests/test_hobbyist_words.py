@@ -2,10 +2,11 @@
 units, fault injection from the prompt, HOME-POSE and .POSE-METRIC.
 
 Metric units are exact in RCL's own units: with 1 in = 2.54 cm and 625/22
-counts an inch (board-hardware.md 7.2), a distance of V4 ten-thousandths
-of a unit is round(V4 x n / 44704) counts, n = 5 MM, 50 CM, 5000 METERS,
-and a speed of V4 ten-thousandths of a cm/s is round(V4 x 75 / 5588) crpm
-(7.3), round half away from zero as everywhere in RCL.
+counts an inch (docs/guide.md section 13), a distance of V4
+ten-thousandths of a unit is round(V4 x n / 44704) counts, n = 5 MM, 50 CM,
+5000 METERS, and a speed of V4 ten-thousandths of a cm/s is
+round(V4 x 75 / 5588) crpm (the guide's section 11), round half away from
+zero as everywhere in RCL.
 """
 from fractions import Fraction
 

@@ -1,4 +1,5 @@
-"""The Intel 8253 model (rcl.sim.i8253) against board-hardware.md section 2."""
+"""The Intel 8253 model (rcl.sim.i8253) against the data sheet's facts its
+docstring lists."""
 import sys
 
 import pytest

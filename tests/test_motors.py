@@ -1,9 +1,9 @@
-"""Physics of the robot (rcl/sim/motors.py) against board-hardware.md sections 5.3-7.
+"""Physics of the robot (rcl/sim/motors.py) against its model and constants.
 
-Numbers are the reference's: count 125 -> 1000 Hz = 2 MPH = 35.2 in/s; a
-spin is 1250 counts per wheel; the torque limit 0.5 G is 5,488.6 counts/s^2;
-PLL, coast and brake time constants 20, 300 and 50 ms; lift 1 in/s over
-0-8 in, gripper 0.5 in/s over 0-3 in.
+Numbers (rcl/sim/constants.py, docs/guide.md section 13): count 125 ->
+1000 Hz = 2 MPH = 35.2 in/s; a spin is 1250 counts per wheel; the torque
+limit 0.5 G is 5,488.6 counts/s^2; PLL, coast and brake time constants 20,
+300 and 50 ms; lift 1 in/s over 0-8 in, gripper 0.5 in/s over 0-3 in.
 """
 import math
 

@@ -1,6 +1,6 @@
 """Which word moved the robot: the move log (rcl/words/moves.py), .MOVES,
-the trace's `word` column and the plot's labels, in the reference's own
-numbers (board-hardware.md 7.5: Listing 1 at 0.1 G and 25.5 IPS, a side
+the trace's `word` column and the plot's labels, in RCL's own numbers
+(docs/guide.md section 13: Listing 1 at 0.1 G and 25.5 IPS, a side
 of 3.5 FEET is 1193 counts a wheel, ramps to 239 and slows from 954; a
 90 DEGREES turn is 313 counts, 156 and 157, peak 7029 crpm).
 """
@@ -134,7 +134,7 @@ def test_on_a_board_over_a_link_the_log_has_rcls_numbers_and_no_pose():
     try:
         m.evaluate("RERB 2 MPH 6 INCHES FORWARD")
         mv = m.moves.moves[-1]
-        # board-hardware.md 7.5: 6 INCHES is 170 counts, a triangle peaking at 5189 crpm
+        # docs/guide.md section 13: 6 INCHES is 170 counts, a triangle peaking at 5189 crpm
         assert (mv.label, mv.counts, mv.top_crpm, mv.how) == ("FORWARD", 170, 5189, "done")
         assert mv.start[3] is None and mv.start[1] is None
         text = m.evaluate(".MOVES")

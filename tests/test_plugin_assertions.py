@@ -1,7 +1,7 @@
 """Robot assertions (rcl.testing): they hold where the robot really is, in
-the reference's numbers, and a failure says what was expected and what
-the robot did: pose, wheel counts, arm, relays, following error, the last
-moves."""
+RCL's own numbers (docs/guide.md section 13), and a failure says what was
+expected and what the robot did: pose, wheel counts, arm, relays,
+following error, the last moves."""
 import pathlib
 
 import pytest

@@ -1,12 +1,12 @@
-"""RCL's error messages (shared/reference/rcl-words.md section 8): each
+"""RCL's error messages (docs/guide.md section 8): each
 aborts with its text, leaves the robot stopped and the system usable (the
 stacks empty, words defined before the error still work)."""
 import pytest
 
 import rcl
 
-MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO (board-hardware.md 5.3)
-ARM_GRIP_ON = 0x05              # ARM-ON GRIP-ON in the AUX latch (5.4)
+MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO: MOTOR latch bits 0, 2, 4, 5
+ARM_GRIP_ON = 0x05              # ARM-ON GRIP-ON: AUX latch bits 0 and 2
 BEFORE = ": TWICE ( n -- 2n )  2 * ;"
 
 
@@ -122,5 +122,5 @@ def test_the_robot_moves_normally_after_a_following_error(robot):
     robot.sim.run(0.5)                              # and roll to rest
     l2, r2 = robot.sim.wheel_counts
     # 1159 counts and the run-on; a wheel that starts part-way through a
-    # count gets it a count early ("within a count or two", section 6).
+    # count gets it a count early ("within a count or two", docs/testing.md).
     assert 1158 <= l2 - left <= 1163 and 1158 <= r2 - right <= 1163

@@ -1,7 +1,11 @@
 """The article's listings (screens/examples/*.fs) load and run on the
-simulated robot as shared/reference/rcl-words.md section 7 repairs and
-reconstructs them: Listing 1's square, the arm example, BOX, the delays,
-the convenience words, TRIP and MAILBOT.
+simulated robot as each file's header says it was repaired or
+reconstructed (docs/guide.md section 9): Listing 1's square, the arm
+example, BOX, the delays, the convenience words, TRIP and MAILBOT.
+
+A figure marked "reference" is what an independent simulation of the
+same control loop and motor model gave, made before rcl's; the tests
+allow a margin around it.
 """
 import math
 import pathlib
@@ -11,7 +15,7 @@ import pytest
 import rcl
 
 EXAMPLES = pathlib.Path(rcl.SCREENS) / "examples"
-MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO (board-hardware.md 5.3)
+MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO: MOTOR latch bits 0, 2, 4, 5
 
 
 @pytest.fixture
@@ -94,8 +98,8 @@ def test_box_turns_right_at_each_corner(robot):
 
 # ---------------------------------------------------------- Listing 3
 # Busy waits: the 10 ms control word's own time, taken from the foreground
-# (f83-semantics.md 13), stretches them while RCL is installed. The
-# reference's durations are "waits as pure delays"; allow the handler up to
+# (docs/guide.md section 7), stretches them while RCL is installed. The
+# reference's durations count the waits as pure delays; allow the handler up to
 # a fifth of the processor.
 STRETCH = 1.2
 
@@ -136,7 +140,7 @@ def test_turn_around_leaves_the_speed_at_10_ips(convenient):
 
 
 def test_turn_left_and_turn_right_cancel(convenient):
-    convenient.evaluate("RERB 25.5 IPS TURN-LEFT")     # section 6: +90.39 at 25.5 IPS
+    convenient.evaluate("RERB 25.5 IPS TURN-LEFT")     # reference: +90.39 at 25.5 IPS
     at_rest(convenient)
     assert convenient.sim.pose[2] == pytest.approx(90.39, abs=0.5)
     convenient.evaluate("TURN-RIGHT")
@@ -151,7 +155,7 @@ def test_ahead_drives_that_many_feet(convenient):
 
 
 def test_ahead_compiled_after_a_single_and_after_a_double_both_work(convenient):
-    # RCL literals (rcl-words.md section 2): 5 ft + 11.5 ft = 1705 + 3920.
+    # RCL literals (docs/guide.md section 3): 5 ft + 11.5 ft = 1705 + 3920.
     convenient.evaluate(": LEGS  5 AHEAD 11.5 AHEAD ;  LEGS")
     left, right = at_rest(convenient)
     assert 5624 <= left <= 5633 and 5624 <= right <= 5633

@@ -1,8 +1,9 @@
-"""RCL commands moving the simulated robot, against the reference results of
-shared/reference/rcl-words.md section 6 (the control loop run on the
-board-hardware.md 6.1 motor model) and section 7.1 (the article's examples).
+"""RCL commands moving the simulated robot, against the reference results:
+what an independent simulation of the same control loop, on the same motor
+model (rcl/sim/motors.py), gave for the article's examples, made before
+rcl's; the tests allow a margin around them.
 
-Geometry (board-hardware.md 7.1-7.2): 28.409 counts per inch, 3.4722 counts
+Geometry (docs/guide.md section 13): 28.409 counts per inch, 3.4722 counts
 per degree of spin per wheel; a count of 125 is 1000 counts/s (2 MPH).
 """
 import math
@@ -13,8 +14,8 @@ import pytest
 import rcl
 from rcl.forth.primitives import CLOCK_HZ
 
-MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO (board-hardware.md 5.3)
-ARM_GRIP_ON = 0x05              # ARM-ON GRIP-ON in the AUX latch (5.4)
+MOTOR_BITS = 0x35               # M1-ON M2-ON M1-GO M2-GO: MOTOR latch bits 0, 2, 4, 5
+ARM_GRIP_ON = 0x05              # ARM-ON GRIP-ON: AUX latch bits 0 and 2
 FLOAT = re.compile(r"-?\d+(?:\.\d+)?")
 
 
@@ -78,7 +79,7 @@ def test_a_move_leaves_both_drive_motors_stopped(robot):
 def trapezoid():
     """Left wheel (clock s, rate counts/s, position counts) at every tick of
     RERB 2 MPH 3.4 FEET FORWARD: peak 1000 counts/s (count 125), accel to
-    455 counts, decel from 704, end 1159 (board-hardware.md 7.5)."""
+    455 counts, decel from 704, end 1159 (docs/guide.md section 13)."""
     m = rcl.open()
     rows = []
     m.sim.board.observers.append(lambda b: rows.append(

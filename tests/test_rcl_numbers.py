@@ -1,9 +1,9 @@
 """RCL's number words: FIXED and its parts, the unit words, SPEED and >REF,
 G, DISTANCE and COUNTS, BREAKPOINTS, AM and PM.
 
-Every expected number is one of the worked examples of
-shared/reference/rcl-words.md (sections 4, 5.5, 5.6, 5.9) or
-board-hardware.md (sections 7.2-7.5). Nothing here moves the robot.
+Every expected number is a worked example of docs/guide.md (sections 3
+and 13), or follows from the rules there and in docs/words.md (layers 5
+to 7, and 9 for AM and PM). Nothing here moves the robot.
 """
 import pytest
 
@@ -90,7 +90,7 @@ def test_v4_is_ten_thousand_times_the_value(robot):
 
 
 # ------------------------------------------------- distances -> counts
-# The pending distance, converted by EXPECTED (board-hardware.md 7.2).
+# The pending distance, converted by EXPECTED (docs/guide.md section 13).
 @pytest.mark.parametrize("typed, counts", [
     ("1 INCHES", 28),
     ("3.1 INCHES", 88),
@@ -195,7 +195,7 @@ def breakpoints(m, total, crpm, motor=1):
             m.evaluate("%d PEAK @ ." % motor))
 
 
-# board-hardware.md 7.5, at 0.1 G: total counts, crpm -> accel end,
+# docs/guide.md section 13, at 0.1 G: total counts, crpm -> accel end,
 # decel start, move end, peak.
 BREAKPOINT_TABLE = [
     pytest.param(1193, 8693, 239, 954, 8693, id="25.5 IPS, 3.5 FEET: cruise"),

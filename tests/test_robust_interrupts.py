@@ -11,7 +11,7 @@ from rcl.forth.primitives import CLOCK_HZ
 from suite_size import scaled
 
 MOVE = "RERB 2 MPH 3 FEET FORWARD"          # 1023 counts a wheel, about 2 s
-FOOT = 341                                  # counts in 1 FEET (board-hardware.md 7.2)
+FOOT = 341                                  # counts in 1 FEET (docs/guide.md section 13)
 MOTOR_BITS, ARM_BITS = 0x3F, 0x0F           # MOTOR latch; AUX arm and gripper bits
 
 

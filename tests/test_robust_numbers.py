@@ -141,7 +141,7 @@ def lag_during(m, text):
 
 def test_a_healthy_wheel_keeps_the_same_lag_behind_q_all_along_a_cruise():
     # 200 ft at 36 IPS: 5,600 ticks of cruise. The tick is 10.0005 ms, so a
-    # q counted in 10 ms ticks (the reference's c/1200) would lose 3 counts.
+    # q counted in 10 ms ticks (c/1200 a tick, the article's EXPACC) would lose 3 counts.
     lags = lag_during(rcl.open(), "36 IPS 200 FEET FORWARD")
     cruise = lags[600:6100]
     assert max(cruise) - min(cruise) <= 2
@@ -149,11 +149,11 @@ def test_a_healthy_wheel_keeps_the_same_lag_behind_q_all_along_a_cruise():
 
 
 def test_36_ips_for_a_mile_ends_on_the_mile_without_a_following_error():
-    # The reference's long move (rcl-words.md section 6), 29 simulated
-    # minutes. The reference says 1,800,005 counts: its q was counted in
-    # 10 ms ticks, and the wheel, 0.005 % ahead all mile, arrived fast. With
-    # the true 10.0005 ms tick it creeps in and stops on MOVE-END. (A
-    # default run drives its first tenth: 180,000 counts.)
+    # A long move, 29 simulated minutes. An independent simulation of the
+    # same loop, made before rcl's, ended it at 1,800,005 counts: its q was
+    # counted in 10 ms ticks, and the wheel, 0.005 % ahead all mile, arrived
+    # fast. With the true 10.0005 ms tick it creeps in and stops on
+    # MOVE-END. (A default run drives its first tenth: 180,000 counts.)
     miles, counts = scaled(("1", 1_800_000), ("0.1", 180_000))
     m = rcl.open()
     m.evaluate("36 IPS %s MILES FORWARD" % miles)

@@ -51,7 +51,7 @@ def test_status_shows_an_arm_move_and_the_heights_after_it():
     m.evaluate("ARM-BITS ON")
     assert "arm moving" in status.text(m)
     m.evaluate("ARM-BITS OFF ARM 3.1 INCHES DOWN")
-    assert m.sim.arm == pytest.approx(4.9, abs=0.02)           # 8.0 - 3.1 (reference 7.1)
+    assert m.sim.arm == pytest.approx(4.9, abs=0.02)           # 8.0 - 3.1 (docs/guide.md section 6)
     assert "arm %.2f jaw 0.00 in" % m.sim.arm in status.text(m)
 
 

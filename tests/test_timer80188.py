@@ -1,4 +1,5 @@
-"""The 80188 timers and timer interrupts (board-hardware.md 3, 5.7).
+"""The 80188 timers and timer interrupts (rcl/sim/timer80188.py, after
+Intel's data sheet; the BIOS's power-on state: docs/protocol.md section 6).
 
 Offsets are from the PCB base 0xFF00: 0x56 is timer 0's control at 0xFF56.
 Time is in clock units of 1/36 ns; one timer-0 count (1.5 us) is 54,000.

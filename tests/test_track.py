@@ -1,4 +1,4 @@
-"""What a trace says (rcl.track), in the reference's numbers: moves, the
+"""What a trace says (rcl.track), in RCL's own numbers: moves, the
 trapezoid's breakpoints, wheel speeds, the following error, trips. No
 matplotlib needed."""
 import io
@@ -30,7 +30,7 @@ def traced(words, stall=None, then=0.5):
 def trapezoid():
     """RERB 2 MPH 3.4 FEET FORWARD: peak 1000 counts/s (count 125), the
     acceleration ends at 455 counts, deceleration begins at 704, end 1159
-    (board-hardware.md 7.5)."""
+    (docs/guide.md section 13)."""
     return traced("RERB 2 MPH 3.4 FEET FORWARD")[0]
 
 

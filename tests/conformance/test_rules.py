@@ -17,7 +17,7 @@ from wire import (ACK, CLOCK, FAR_FETCH, HEARTBEAT, HELLO, IDENTIFY, IN8, NAK, O
                   PING, REFUSED, RESULTS, SAFE, SNAPSHOT, TICK, TICK_DONE,
                   TICK_FAILED, VALUE, WAIT, frame, ops, u16, u32)
 
-LEFT, RIGHT = 0x80, 0x84                # the two 8253s (board-hardware port map)
+LEFT, RIGHT = 0x80, 0x84                # the two 8253s (docs/firmware.md's port map)
 MOTOR, AUX, STATUS = 0x88, 0x89, 0x8A
 T0CON, T0MAX, TIMER_MASK = 0xFF56, 0xFF52, 0xFF32
 FORTH_CS = 0x1000
@@ -34,7 +34,8 @@ def not_lockstep(s):
 
 
 def load_counter(s, chip, counter, count):
-    """8253 counter 1 or 2 in mode 2, LSB then MSB (board-hardware 5.2)."""
+    """8253 counter 1 or 2 in mode 2, LSB then MSB (control word 0x74 or 0xB4,
+    as RCL's INIT-COUNTERS sets them)."""
     s.out8(chip + 3, (counter << 6) | 0x34)
     s.out8(chip + counter, count & 0xFF)
     s.out8(chip + counter, count >> 8)

@@ -1,4 +1,4 @@
-\ f83-semantics.md section 14: the conformance checklist, typed at the prompt.
+\ The F83 checklist of tests/test_f83_checklist.py, typed at the prompt.
 40000 .
 40000 U.
 1.2 .S

@@ -1,4 +1,4 @@
-\ Control structures (f83-semantics.md section 5) and SEE reading them back.
+\ Control structures (docs/forth2012.md, Core) and SEE reading them back.
 : CLASSIFY  ( n -- )  DUP 0< IF ." negative" ELSE DUP 0= IF ." zero" ELSE ." positive" THEN THEN DROP ;
 -5 CLASSIFY
 0 CLASSIFY

@@ -1,4 +1,4 @@
-\ rcl-words.md section 2: a compiled number restores its compile-time DPL.
+\ docs/guide.md section 3: a compiled number restores its compile-time DPL.
 : S  5 ;  : D  11.5 ;  : DD  1.25 ;
 S DPL @ . DROP
 D DPL @ . D.
