@@ -58,6 +58,7 @@ class ForthError(RclError):
         self.file = None
         self.line = None
         self.backtrace = None     # [(word, file, line)] innermost first (forth/wordloc.py)
+        self.why = None           # more than the message says, where known (a lost link's cause)
 
     def display(self):
         """The text F83 prints between the blanks, with the word if any."""

@@ -63,6 +63,11 @@ def pytest_runtest_makereport(item, call):
     report.starved = (report.failed and call.when == "call"
                       and (isinstance(error, Starved)
                            or isinstance(error, ForthError) and error.code in STARVED))
+    if report.starved:
+        # the first run's error, and for a lost link its cause (silent, a frame gone)
+        why = getattr(error, "why", None)
+        report.starved_why = "%s: %s%s" % (type(error).__name__, error,
+                                           " (%s)" % why if why else "")
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -74,8 +79,7 @@ def pytest_runtest_protocol(item, nextitem):
     reports = runtestprotocol(item, nextitem=nextitem, log=False)
     starved = [r for r in reports if getattr(r, "starved", False)]
     if starved:
-        first = str(starved[0].longrepr.reprcrash.message) if hasattr(
-            starved[0].longrepr, "reprcrash") else "starved"
+        first = starved[0].starved_why
         reports = runtestprotocol(item, nextitem=nextitem, log=False)
         for r in reports:
             r.user_properties.append(("run again", first))

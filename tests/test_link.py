@@ -123,6 +123,8 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_within_250_ms(
     # cut, or the line held our frames just before (the board then stopped its
     # tick first, docs/protocol.md section 6): Link lost either way
     assert e.value.screen() in (" Link lost ", " %s " % UNHEARD), m.board.status()
+    if e.value.screen() == " Link lost ":
+        assert e.value.why == "no frame from the board for 250 ms"     # the error says which loss
     assert wait_for(lambda: server.stats["watchdog"] == 1)
     assert server.board.motor_latch == 0
     assert server.watchdog_at - server.last_valid_clock <= CLOCK_HZ // 4

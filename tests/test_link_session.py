@@ -145,14 +145,14 @@ def test_a_lost_link_asks_the_running_word_to_stop_before_it_says_lost():
     request_stop = m.request_stop
 
     def watched(error):
-        asked.append((board.lost, error.message))
+        asked.append((board.lost, error.message, error.why))
         request_stop(error)
     m.request_stop = watched
     try:
         m.in_forth += 1                              # (a word runs)
         board.lose(Loss(Cause.FRAME_GONE, "board frame 9 was not sent again"))
         m.in_forth -= 1
-        assert asked == [(False, "Link lost")] and board.lost
+        assert asked == [(False, "Link lost", "board frame 9 was not sent again")] and board.lost
         assert board.why == "board frame 9 was not sent again"
         assert m.break_pending and m.deadline == -1
         board.lose(Loss(Cause.SILENT, "later"))      # said once: no second stop

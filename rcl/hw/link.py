@@ -66,8 +66,12 @@ UNHEARD = ("Link lost: the board heard nothing good from us for its %d ms watchd
            "the motors and its tick (INSTALL starts it)" % P.WATCHDOG_MS)
 
 
-def link_lost():
-    return ForthError(-292, "Link lost")
+def link_lost(loss=None):
+    """The running word's error: RCL's two words; the loss, when known,
+    in its `why` (the status line says it too)."""
+    error = ForthError(-292, "Link lost")
+    error.why = str(loss) if loss is not None else None
+    return error
 
 
 class LinkBoard(Board):
@@ -424,7 +428,7 @@ class LinkBoard(Board):
             # HALTs with no board (Control loop stalled) before it is.
             self.loss, self.lost_at = loss, time.monotonic()
             if stop and m is not None and (m.in_forth or m.masked):
-                m.request_stop(link_lost())
+                m.request_stop(link_lost(loss))
         if self.session.leave({S.IDENTIFIED, S.RUNNING, S.LEAVING}, S.LOST, first=stop_first):
             self.send(P.frame(self.seq, "SAFE"))       # if the board still hears
         self.due = None
@@ -440,14 +444,14 @@ class LinkBoard(Board):
         if self.replay.active or self.machine.in_safe_state:
             return False
         if time.monotonic() - self.lost_at < RECONNECT_AFTER:
-            self.machine.request_stop(link_lost())
+            self.machine.request_stop(link_lost(self.loss))
             return False
         self.lost_at = time.monotonic()
         try:
             self.reopen()
         except (P.LinkError, serial.SerialException, OSError) as e:
             self.not_reconnected(e)
-            self.machine.request_stop(link_lost())   # taken at the next primitive boundary
+            self.machine.request_stop(link_lost(self.loss))   # taken at the next primitive boundary
             return False
         # A new session: the board is as at power-on, so the word that was
         # running cannot go on as if nothing had happened.
