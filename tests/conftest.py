@@ -25,24 +25,26 @@ REAL_TIME = ("test_console_pty.py", "test_repl_pty.py", "test_ctrl_c_pty.py",
              "test_firmware_", "test_sessions.py", "test_web_page.py", "conformance")
 
 
-# Files that run the Uno image under simavr: a simulated ATmega328P in real
-# time needs most of a core. Two at once (one on each worker) took both
-# cores at their raised priority, and the kernel's own workers, which carry
-# every pty's bytes, waited seconds for a turn: boards heard nothing, hosts
-# were silent past the watchdog. They run one after another on one worker.
-ONE_UNO_AT_A_TIME = ("test_firmware_simavr.py", "test_firmware_hardening.py",
-                     "test_sessions.py", "conformance")
+# Files that run a board program (the Uno image under simavr, the native
+# firmware, rcl-board) run one after another on one worker. The Uno needs
+# most of a core in real time, at a raised priority: two at once took
+# both cores, and the kernel's own workers, which carry every pty's bytes,
+# waited seconds for a turn. One Uno beside a native board, two CPU hogs
+# and the other worker: both boards, heard over ptys, went silent for
+# 250 ms and more, in 4 tests of 54 (docs/testing.md); one board at a time,
+# none.
+ONE_BOARD_AT_A_TIME = ("test_firmware_", "test_sessions.py", "conformance")
 
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
     """Mark real-time tests; give each test its xdist group: its file (a
-    file's module fixtures start once), or one group for the Uno files."""
+    file's module fixtures start once), or one group for the board files."""
     for item in items:
         if any(part in item.nodeid for part in REAL_TIME):
             item.add_marker(pytest.mark.real_time)
-        uno = any(part in item.nodeid for part in ONE_UNO_AT_A_TIME)
-        item.add_marker(pytest.mark.xdist_group("uno" if uno else item.nodeid.split("::")[0]))
+        board = any(part in item.nodeid for part in ONE_BOARD_AT_A_TIME)
+        item.add_marker(pytest.mark.xdist_group("boards" if board else item.nodeid.split("::")[0]))
 
 
 # rcl's own verdicts that time ran out: the board was not heard for 250 ms

@@ -135,7 +135,7 @@ def raise_the_uno(proc):
     """The Uno image under simavr stands for a board with a CPU of its own
     and needs most of a core to keep real time: its process runs at nice
     -10 where the tests may set that (root). Only it, and one at a time
-    (conftest.py's "uno" group): a raised process may take one core, never
+    (conftest.py's "boards" group): a raised process may take one core, never
     both, or the kernel's pty workers (normal priority) wait, and every pty
     stands still (docs/testing.md)."""
     try:
