@@ -357,9 +357,15 @@ class RawLink:
         self.reader = protocol.FrameReader()
         self.raw = bytearray()          # every byte received, for byte-for-byte checks
         self.later = collections.deque()    # frames read after the one returned
+        self.last_sent = None
+        self.longest_silence = 0.0      # s between two of our writes, the longest (tests reset it)
 
     def send(self, data):
+        now = time.monotonic()
+        if self.last_sent is not None:
+            self.longest_silence = max(self.longest_silence, now - self.last_sent)
         os.write(self.fd, data)
+        self.last_sent = now
 
     def frame(self, seq, name, /, **values):
         data = self.P.frame(seq, name, **values)

@@ -26,11 +26,12 @@ import serial
 
 import rcl
 from rcl.hw.link import UNHEARD
-from rcl.hw.protocol import LinkError
+from rcl.hw.protocol import WATCHDOG_MS, LinkError
 from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, PINS_TEST, ROOT, FaultRelay, RawLink,
                               connect, counts, harness_built, leg_after_reconnect, simulated,
                               uno_image, within)
 from firmware_support import simavr  # noqa: F401 (a fixture)
+from starved import Starved
 
 
 # ------------------------------------------- the harness, on its own program
@@ -435,12 +436,18 @@ def run_ticks(link, seq, n):
         assert link.answer(seq + off, "FAR_STORE", seg=0, off=0x70 + off, value=value)
     seq += 4
     seen, end = [0], time.monotonic() + 60              # (a bound for a broken board)
+    link.longest_silence = 0.0
     while seen[-1] < n and time.monotonic() < end:
         f = link.receive("TICK", seconds=0.5)
         if f is not None:
             seen.append(f["tick"])
             link.frame(seq, "TICK_DONE", tick=f["tick"], final=1, us=0, writes=[])
             seq = seq % 255 + 1
+        elif link.longest_silence > WATCHDOG_MS / 1000:
+            # the board stopped its tick by its watchdog: this process, not
+            # run, answered nothing for 250 ms (the premise is a host that keeps up)
+            raise Starved("this process sent nothing for %d ms (a busy machine)"
+                          % (link.longest_silence * 1000))
     return seen[1:]
 
 
