@@ -68,8 +68,8 @@ def pytest_runtest_makereport(item, call):
     if report.starved:
         # the first run's error, and for a lost link its cause (silent, a frame gone)
         why = getattr(error, "why", None)
-        report.starved_why = "%s: %s%s" % (type(error).__name__, error,
-                                           " (%s)" % why if why else "")
+        told = "%s: %s" % (type(error).__name__, error)
+        report.starved_why = told + (" (%s)" % why if why and why not in told else "")
 
 
 @pytest.hookimpl(tryfirst=True)
