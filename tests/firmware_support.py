@@ -36,6 +36,7 @@ import tty
 import pytest
 
 import rcl
+from starved import Starved
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 FIRMWARE = ROOT / "firmware"
@@ -266,6 +267,10 @@ def connect(path):
     return rcl.open(port=path)
 
 
+# A relay not run this long held the line past the board's watchdog.
+LINE_STALL = 0.25
+
+
 class FaultRelay:
     """A pty pair between rcl and the board: bytes are copied both ways,
     and can be corrupted (a random bit flipped), dropped (with a seeded
@@ -278,6 +283,7 @@ class FaultRelay:
         self.cutting = False
         self.stats = {"to_board": 0, "to_host": 0, "corrupted": 0, "dropped": 0}
         self.stopping = threading.Event()
+        self.longest_stall = 0.0        # s between two turns of the copying loop, the longest
 
     def __enter__(self):
         self.board = os.open(self.board_path, os.O_RDWR | os.O_NOCTTY)
@@ -315,8 +321,12 @@ class FaultRelay:
 
     def _run(self):
         ends = {self.master: (self.board, "to_board"), self.board: (self.master, "to_host")}
+        turned = time.monotonic()
         while not self.stopping.is_set():
             ready, _, _ = select.select(list(ends), [], [], 0.05)
+            now = time.monotonic()
+            self.longest_stall = max(self.longest_stall, now - turned)
+            turned = now
             for fd in ready:
                 try:
                     data = os.read(fd, 4096)
@@ -341,8 +351,14 @@ class FaultRelay:
             except OSError:
                 pass
 
-    def __exit__(self, *exc):
+    def __exit__(self, kind, error, trace):
         self.close()
+        if isinstance(error, rcl.ForthError) and self.longest_stall > LINE_STALL:
+            # rcl's verdict on a line that stood still: this relay, a thread
+            # of the test's process, was not run (the premise is a line that
+            # carries bytes as they come)
+            raise Starved("the relay copied nothing for %d ms (a busy machine): %s"
+                          % (self.longest_stall * 1000, error)) from error
 
 
 class RawLink:
