@@ -267,6 +267,11 @@ def connect(path):
     return rcl.open(port=path)
 
 
+# How late an answer to a TICK the Uno harness waits for: 50 ms past its
+# 5 ms slack (rcl-simavr: a held AVR sends no HEARTBEAT, and the host must
+# hear from it within 250 ms). A later answer, and the wheels ran on.
+UNO_PATIENCE = 0.055
+
 # A relay not run this long held the line past the board's watchdog.
 LINE_STALL = 0.25
 

@@ -35,7 +35,7 @@ import pytest
 
 import rcl
 from rcl.hw import protocol as P
-from firmware_support import (BoardProcess, harness_built, native_program,
+from firmware_support import (UNO_PATIENCE, BoardProcess, harness_built, native_program,
                               uno_image)
 from starved import Starved
 from suite_size import scaled
@@ -192,9 +192,8 @@ class Counts(tuple):
 
 # How long each board waits for a host late with a tick's answer before it
 # runs on: rcl-board holds its time (lockstep), the native board up to 1 s,
-# the Uno harness 50 ms past its 5 ms slack (rcl-simavr: a held AVR sends
-# no HEARTBEAT, and the host must hear from it within 250 ms).
-PATIENCE = {"tcp": float("inf"), "pty": float("inf"), "native": 1.0, "uno": 0.055}
+# the Uno harness UNO_PATIENCE (firmware_support.py).
+PATIENCE = {"tcp": float("inf"), "pty": float("inf"), "native": 1.0, "uno": UNO_PATIENCE}
 
 
 def same_move(kind, counts, reference, slack=1):
