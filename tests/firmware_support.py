@@ -36,6 +36,7 @@ import tty
 import pytest
 
 import rcl
+from rcl.hw.protocol import WATCHDOG_MS
 from starved import Starved
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -273,7 +274,7 @@ def connect(path):
 UNO_PATIENCE = 0.055
 
 # A relay not run this long held the line past the board's watchdog.
-LINE_STALL = 0.25
+LINE_STALL = WATCHDOG_MS / 1000
 
 
 class FaultRelay:
