@@ -486,3 +486,17 @@ def leg_after_reconnect(m):
 
 def within(a, b, tolerance):
     return all(abs(x - y) <= tolerance for x, y in zip(a, b))
+
+
+def uno_moved(moved, expected, tolerance, figures, aways_before=0):
+    """Assert that a move on the Uno image ended within `tolerance` counts
+    of `expected`. The harness holds the board for the host's answer to
+    each tick, at most 50 ms (UNO_PATIENCE); one it gave up on while a
+    wheel was driven let the wheels run on without the host's next writes
+    (`aways_moving`, counted since `aways_before`): a host process not run
+    in time, the machine's doing, which conftest.py runs once more."""
+    away = figures["aways_moving"] - aways_before
+    if away and not within(moved, expected, tolerance):
+        raise Starved("moved %s for %s: the harness gave up waiting for the host %d time(s)"
+                      " while a wheel was driven (a busy machine)" % (list(moved), list(expected), away))
+    assert within(moved, expected, tolerance), (list(moved), list(expected), tolerance)

@@ -27,9 +27,9 @@ import serial
 import rcl
 from rcl.hw.link import UNHEARD
 from rcl.hw.protocol import WATCHDOG_MS, LinkError
-from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, PINS_TEST, ROOT, UNO_PATIENCE,
-                              FaultRelay, RawLink, connect, counts, harness_built,
-                              leg_after_reconnect, simulated, uno_image, within)
+from firmware_support import (FIRST_COMMAND, LEGS, PER_MOVE, PINS_TEST, ROOT, FaultRelay, RawLink,
+                              connect, counts, harness_built, leg_after_reconnect, simulated,
+                              uno_image, uno_moved, within)
 from firmware_support import simavr  # noqa: F401 (a fixture)
 from starved import Starved
 
@@ -202,7 +202,7 @@ def test_the_articles_first_command_on_the_uno_image_drives_as_the_simulated_boa
     assert m.evaluate(FIRST_COMMAND) == ""
     read = counts(m)                            # RCL's counters, wheels at rest
     figures = sim.figures()
-    assert within(true_counts(figures), simulated(FIRST_COMMAND), PER_MOVE)
+    uno_moved(true_counts(figures), simulated(FIRST_COMMAND), PER_MOVE, figures)
     assert within(read, true_counts(figures), 1)        # the firmware saw every edge
     assert figures["resets"] == 0 and figures["frames_from_board"]["bad"] == 0
 
@@ -219,7 +219,7 @@ def test_rcl_port_on_the_command_line_drives_the_uno_image_as_a_user_would(uno):
     assert done.returncode == 0 and "Traceback" not in done.stdout + done.stderr
     read = [int(x) for x in done.stdout.split()[-2:]]
     figures = sim.figures()
-    assert within(true_counts(figures), simulated(FIRST_COMMAND), PER_MOVE)
+    uno_moved(true_counts(figures), simulated(FIRST_COMMAND), PER_MOVE, figures)
     assert within(read, true_counts(figures), 1)
     assert figures["drive"] == [0.0, 0.0]              # rcl left, the wheels stopped
 
@@ -230,7 +230,7 @@ def test_listing_1_on_the_uno_image_drives_the_square_as_the_simulated_board(uno
     m.include(rcl.SCREENS + "/examples/listing1.fs")
     read = counts(m)
     figures = sim.figures()
-    assert within(true_counts(figures), simulated(listing="listing1.fs"), 8 * PER_MOVE)
+    uno_moved(true_counts(figures), simulated(listing="listing1.fs"), 8 * PER_MOVE, figures)
     assert within(read, true_counts(figures), 1)
     # The board's tick, as the host receives it: Timer1 at 10 ms exactly
     # on average, no tick lost; each TICK frame waits at most for the
@@ -265,7 +265,7 @@ def test_corrupted_and_dropped_bytes_both_ways_change_no_count_on_the_uno_image(
     figures = sim.figures()
     assert m.board.retries > 0                  # the host really had to resend
     assert figures["frames_to_board"]["bad"] > 0        # and the AVR really saw bad frames
-    assert within(true_counts(figures), simulated(LEGS), 3 * PER_MOVE)
+    uno_moved(true_counts(figures), simulated(LEGS), 3 * PER_MOVE, figures)
     assert within(got, true_counts(figures), 1)
     assert figures["resets"] == 0               # no watchdog reset of the AVR itself
 
@@ -313,7 +313,7 @@ def test_a_flood_of_garbage_both_ways_crashes_nothing_on_the_uno_image(uno, host
         got = counts(m)
     figures = sim.figures()
     assert figures["bytes_to_board"] > 3500     # the garbage did reach the AVR
-    assert within(true_counts(figures), simulated(LEGS), 3 * PER_MOVE)
+    uno_moved(true_counts(figures), simulated(LEGS), 3 * PER_MOVE, figures)
     assert within(got, true_counts(figures), 1)
     assert figures["resets"] == 0 and sim.proc.poll() is None
 
@@ -396,14 +396,13 @@ def test_a_host_late_with_every_tick_is_waited_for_and_drives_as_the_simulated_b
     # could leave 25 ticks unanswered: the skip rule's case, not this one.
     m.evaluate("RERB 6 INCHES FORWARD")
     counts(m)                                   # (at rest)
-    skipped, holds = m.board.skipped, sim.figures()["holds"]
-    start = true_counts(sim.figures())
+    before = sim.figures()
+    skipped, holds, start = m.board.skipped, before["holds"], true_counts(before)
     # 1.5 ticks late, every tick: past the harness's 5 ms, so every tick is
     # waited for; the board waits up to 50 ms (its HEARTBEAT period), and
     # 25 ms late left a busy machine too little of that (moves ended 4-5
     # counts on: 1 in 6 under PyPy beside three CPU hogs, once in a busy
     # CPython suite; at 15 ms, 3 of 3 on each)
-    slowest = m.board.slowest_answer
     slow_host(m, 0.015)
     m.evaluate("RERB 6 INCHES FORWARD")
     got = counts(m)
@@ -414,14 +413,25 @@ def test_a_host_late_with_every_tick_is_waited_for_and_drives_as_the_simulated_b
     # so the handler's writes may land 8 ms after their tick rather than
     # 2-4: at RCL's end-of-move crawl (95 counts/s at most) under a count.
     moved = [b - a for a, b in zip(start, true_counts(figures))]
-    late = m.board.slowest_answer
-    if not within(moved, simulated("RERB 6 INCHES FORWARD"), PER_MOVE + 1) \
-            and late > slowest and late > UNO_PATIENCE:
-        # this move's host, not run in time, answered past the harness's wait
-        raise Starved("moved %s: a tick answered after %d ms, past the harness's %d ms"
-                      % (moved, late * 1000, UNO_PATIENCE * 1000))
-    assert within(moved, simulated("RERB 6 INCHES FORWARD"), PER_MOVE + 1)
+    uno_moved(moved, simulated("RERB 6 INCHES FORWARD"), PER_MOVE + 1, figures, before["aways_moving"])
     assert within(got, true_counts(figures), 1)       # the firmware saw every edge
+
+
+def test_the_harness_counts_a_host_away_only_while_a_wheel_is_driven(uno, host):
+    # uno_moved's premise (firmware_support.py): aways_moving counts the
+    # holds the harness gave up on mid-move, never the idle prompt's.
+    sim = uno()
+    m = host(sim.path)
+    m.evaluate("RERB 6 INCHES FORWARD")
+    counts(m)
+    time.sleep(0.5)                             # the prompt: no tick answered
+    assert sim.figures()["aways_moving"] == 0
+    slow_host(m, 0.08)                          # later than the harness waits
+    try:
+        m.evaluate("RERB 6 INCHES FORWARD")
+    except rcl.ForthError:                      # the board ran on: a Following error, or not
+        pass
+    assert sim.figures()["aways_moving"] > 0
 
 
 def test_a_free_running_board_leaves_a_late_host_behind(uno, host):

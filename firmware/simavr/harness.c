@@ -76,6 +76,8 @@ typedef struct harness {
     double hold_start, held_s;
     unsigned long holds;
     int host_away;                    /* gave up waiting; until it answers again */
+    unsigned long aways_moving;       /* gave up while a wheel was driven: the wheels
+                                         ran on without the host's next writes */
     uint16_t away_answer;             /* its last answer when it went away */
     char line[256];                   /* stdin command being read */
     size_t line_len;
@@ -131,7 +133,8 @@ static void stats_json(FILE *f)
                "\"resets\": %lu, ",
             H.reports, sim_s, now_s() - H.start_wall, H.opt.rate, H.rebases,
             H.lag_max_us, H.resets);
-    fprintf(f, "\"holds\": %lu, \"held_s\": %.3f, ", H.holds, H.held_s);
+    fprintf(f, "\"holds\": %lu, \"held_s\": %.3f, \"aways_moving\": %lu, ",
+            H.holds, H.held_s, H.aways_moving);
     fprintf(f, "\"edges\": [%.0f, %.0f], \"pin_edges\": [%ld, %ld], "
                "\"drive\": [%.4f, %.4f], \"limits_held\": [%d, %d], ",
             motor_edges(&ws->w[WHEEL_LEFT].m), motor_edges(&ws->w[WHEEL_RIGHT].m),
@@ -285,6 +288,8 @@ static int hold_for_host(avr_cycle_count_t due, double t)
 
     if (owed && t - H.br.last_sent_wall > HOLD_MAX_S) {
         H.host_away = 1;
+        if (H.ws.moving)
+            H.aways_moving++;
         H.away_answer = H.lw.answered;
         owed = 0;
     }
