@@ -4,6 +4,7 @@ After it the robot is stopped, the 10 ms tick still runs (`.TIME 1000 MS
 .TIME` moves on), the next move completes and the counters read what the
 wheels did. The delays only choose where the Ctrl-C lands; nothing is
 asserted about time. The timeouts only bound a hung child."""
+import io
 import os
 import shutil
 import sys
@@ -33,6 +34,7 @@ def console(tmp_path):
                PYTHONPATH=ROOT, TERM="xterm", PROMPT_TOOLKIT_NO_CPR="1")
     child = pexpect.spawn(program, args, env=env, encoding="utf-8", timeout=TIMEOUT,
                           dimensions=(24, 80))
+    child.logfile_read = io.StringIO()          # the screen, for a failure's report
     child.expect("BYE to leave")
     yield child
     close(child)
@@ -41,10 +43,15 @@ def console(tmp_path):
 def values(child, line, label, n=2):
     child.sendline(line)
     found = []
-    for _ in range(n):
-        child.expect(label + r"=(-?[\d:]+) ")
-        found.append(child.match.group(1))
-    child.expect_exact(" ok")
+    try:
+        for _ in range(n):
+            child.expect(label + r"=(-?[\d:]+) ")
+            found.append(child.match.group(1))
+        child.expect_exact(" ok")
+    except pexpect.TIMEOUT:
+        # (a busy run once saw no answer here in 120 s: say what the screen held)
+        raise AssertionError("no answer to %r in %d s; the screen's last 2000 characters: %r"
+                             % (line, child.timeout, child.logfile_read.getvalue()[-2000:])) from None
     return found
 
 
