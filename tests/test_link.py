@@ -138,6 +138,27 @@ def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_within_250_ms(
         all(80 <= b - a <= 88 for a, b in zip(start, m.sim.wheel_counts))
 
 
+def test_a_board_that_stopped_its_tick_unheard_at_the_prompt_says_link_lost_not_control_loop(linked):
+    # Our frames did not reach the board for its watchdog (a line that held
+    # them, a pty the kernel did not move) while rcl waited at the prompt:
+    # the board stopped its tick. The next command's check finds the timer
+    # stopped before the board's HEARTBEAT saying so is read; the error is
+    # the link's, not "Control loop not running" (nobody stopped it).
+    m = linked("rclsim://")
+    server = m.board.port.server
+    heard = server.receive
+    server.receive = lambda data: None                 # the line carries nothing to the board
+    assert wait_for(lambda: server.stats["watchdog"] == 1)
+    server.receive = heard
+    with pytest.raises(rcl.ForthError) as e:
+        m.evaluate("10 MS")
+    assert (e.value.code, e.value.screen()) == (-292, " %s " % UNHEARD), m.board.status()
+    assert server.board.motor_latch == 0
+    start = m.sim.wheel_counts
+    m.evaluate("INSTALL RERB 3 INCHES FORWARD")        # as the error says: INSTALL starts it
+    assert near([b - a for a, b in zip(start, m.sim.wheel_counts)], plain("RERB 3 INCHES FORWARD"))
+
+
 def test_a_board_of_another_protocol_version_is_refused_naming_both():
     with pytest.raises(LinkError) as e:
         rcl.open(port="rclsim://?version=2")

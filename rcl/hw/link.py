@@ -724,10 +724,17 @@ class LinkBoard(Board):
             # the link is the cause to report
             lost.file, lost.line = error.file, error.line
             return lost
-        if self.silent_for and error.message.startswith("Control loop not running"):
-            # the board stopped its tick itself, its watchdog tripped by our
-            # silence: say that, not "INSTALL starts it" (nobody stopped it)
-            e = self.silence_error()
+        if error.message.startswith("Control loop not running") and (self.silent_for or self.ticked):
+            # the board stopped its tick itself, its watchdog tripped: by our
+            # silence, or (a tick ran since our last timer write, and we
+            # were not silent) by a line that did not carry our frames, as
+            # tick_stopped_unasked says when its HEARTBEAT is read first.
+            # Say that, not "INSTALL starts it" (nobody stopped it).
+            if self.silent_for:
+                e = self.silence_error()
+            else:
+                self.ticking = self.ticked = False
+                e = ForthError(-292, UNHEARD)
             e.file, e.line = error.file, error.line
             return e
         late = self.replay.take_late()
