@@ -57,6 +57,22 @@ def open_serial(url):
         raise LinkError(open_failure(url, e)) from None
 
 
+def close_port(port):
+    """Close a port; one opened exclusively gives its lock up first. A
+    thread still inside select() on the port (the link's reader, not run
+    since on a busy machine) keeps the file open past close(), and its
+    lock with it: the next open of the port, even this process's own,
+    would find it busy."""
+    fd = getattr(port, "fd", None)
+    if getattr(port, "exclusive", False) and isinstance(fd, int):
+        try:
+            import fcntl
+            fcntl.flock(fd, fcntl.LOCK_UN)
+        except (ImportError, OSError):
+            pass
+    port.close()
+
+
 def open_failure(url, exc):
     """What to tell the user when url would not open."""
     code = getattr(exc, "errno", None)

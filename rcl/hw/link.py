@@ -35,6 +35,7 @@ import serial
 from rcl.board import CLOCK_HZ, FORTH_CS, Board
 from rcl.errors import ForthError
 from rcl.hw import protocol as P
+from rcl.hw.connect import close_port
 from rcl.hw.inorder import InOrder
 from rcl.hw.lockstep import HostTime
 from rcl.hw.liveness import Liveness
@@ -238,7 +239,7 @@ class LinkBoard(Board):
         if self.reader is not None and self.reader is not threading.current_thread():
             self.reader.join(1.0)
         try:
-            self.port.close()
+            close_port(self.port)
         except Exception:          # noqa: BLE001  (closing a failed port)
             pass
 
