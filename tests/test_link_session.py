@@ -4,6 +4,7 @@ URLs, and the host judging a silent board only at the moments it has read
 everything waiting (rcl/hw/liveness.py): a host thread kept from running
 on a busy machine is not a silent board."""
 import collections
+import os
 import pathlib
 import subprocess
 import sys
@@ -159,6 +160,28 @@ def test_a_lost_link_asks_the_running_word_to_stop_before_it_says_lost():
         assert len(asked) == 1 and board.why == "board frame 9 was not sent again"
     finally:
         board.close()
+
+
+def readers():
+    return {t for t in threading.enumerate() if t.name == "rcl-link-reader" and t.is_alive()}
+
+
+def test_an_open_that_fails_leaves_no_port_or_thread_behind_and_a_second_try_says_the_same():
+    # rcl.open on a line where no board answers: LinkError. What it opened
+    # (the port, held exclusively, and its reader thread) is closed, so the
+    # next try gets the same answer, not " port busy " (a busy run's retry
+    # after a session lost while loading RCL met exactly that)
+    master, slave = os.openpty()
+    path, before = os.ttyname(slave), readers()
+    try:
+        for _ in range(2):
+            with pytest.raises(LinkError) as e:
+                rcl.open(port=path)
+            assert str(e.value).startswith("No answer from a board on %s" % path)
+        assert readers() <= before
+    finally:
+        os.close(master)
+        os.close(slave)
 
 
 def test_a_closed_connection_is_a_lost_link_of_cause_port():
