@@ -475,6 +475,15 @@ def simulated(program=None, listing=None):
     return counts(m)
 
 
+def skipped_before_the_word(m):
+    """The ticks rcl was away from before a word runs (opening the link,
+    compiling RCL ahead, the prompt): more than 25 queued, the older are
+    counted skipped by design (docs/protocol.md). A trivial word takes
+    them; -> the count a test of the word's own ticks starts from."""
+    m.evaluate("10 MS")
+    return m.board.skipped
+
+
 def leg_after_reconnect(m):
     """The link mended: RECONNECT finds it up and LEG, defined before the
     cut, drives; -> the counts each wheel moved."""
