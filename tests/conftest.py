@@ -13,6 +13,7 @@ from _pytest.runner import runtestprotocol
 
 import suite_size
 from rcl.errors import ForthError
+from rcl.hw.link import LinkLost
 from starved import Starved
 
 pytest_plugins = ["pytester"]
@@ -48,7 +49,8 @@ def pytest_collection_modifyitems(config, items):
 
 
 # rcl's own verdicts that time ran out: the board was not heard for 250 ms
-# (Link lost) or the host answered too late (Host too slow). In a real-time
+# (Link lost: ForthError -292 while a word runs, LinkLost while rcl.open
+# connects) or the host answered too late (Host too slow). In a real-time
 # test they are the machine's doing when it starves the board or the host
 # (docs/testing.md: a pty the kernel does not move, a process not run for
 # 200 ms beside CPU hogs); such a test runs once more, asserting the same,
@@ -63,7 +65,7 @@ def pytest_runtest_makereport(item, call):
     report = outcome.get_result()
     error = call.excinfo.value if call.excinfo is not None else None
     report.starved = (report.failed and call.when == "call"
-                      and (isinstance(error, Starved)
+                      and (isinstance(error, (Starved, LinkLost))
                            or isinstance(error, ForthError) and error.code in STARVED))
     if report.starved:
         # the first run's error, and for a lost link its cause (silent, a frame gone)
