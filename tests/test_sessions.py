@@ -198,30 +198,26 @@ PATIENCE = {"tcp": float("inf"), "pty": float("inf"), "native": 1.0, "uno": UNO_
 
 
 def same_move(kind, counts, reference, slack=1):
-    """Assert the same move from rest (within_a_count). Counts that differ
-    after a host answered later than the board waits (this process not
-    run, beside CPU hogs) are the machine's doing: Starved, run once more."""
-    if within_a_count(counts, reference, slack):
-        return
-    slowest = max(counts.slowest, reference.slowest)
-    if slowest > PATIENCE[kind]:
-        raise Starved("%s then %s: a tick answered after %d ms, past the %s board's %d ms"
-                      % (reference, counts, slowest * 1000, kind, PATIENCE[kind] * 1000))
-    raise AssertionError("%s then %s (the slowest answer %.1f ms)"
-                         % (reference, counts, slowest * 1000))
+    """Assert the same move from rest (within_a_count)."""
+    if not within_a_count(counts, reference, slack):
+        off(kind, "%s then %s" % (reference, counts), max(counts.slowest, reference.slowest))
 
 
 def one_inch(kind, counts):
     """Assert the first command's inch: 28.4 counts and the run-out, 29
-    within 2 on each wheel. Counts off after a host answered later than
-    the board waits are the machine's doing (same_move): Starved."""
-    if all(abs(c - 29) <= 2 for c in counts):
-        return
-    if counts.slowest > PATIENCE[kind]:
-        raise Starved("%s for 29: a tick answered after %d ms, past the %s board's %d ms"
-                      % (counts, counts.slowest * 1000, kind, PATIENCE[kind] * 1000))
-    raise AssertionError("%s for 29 within 2 (the slowest answer %.1f ms)"
-                         % (counts, counts.slowest * 1000))
+    within 2 on each wheel."""
+    if not all(abs(c - 29) <= 2 for c in counts):
+        off(kind, "%s for 29 within 2" % (counts,), counts.slowest)
+
+
+def off(kind, told, slowest):
+    """Counts were off. After a host answered later than the board waits
+    (this process not run, beside CPU hogs) that is the machine's doing:
+    Starved, run once more; else the assertion fails."""
+    if slowest > PATIENCE[kind]:
+        raise Starved("%s: a tick answered after %d ms, past the %s board's %d ms"
+                      % (told, slowest * 1000, kind, PATIENCE[kind] * 1000))
+    raise AssertionError("%s (the slowest answer %.1f ms)" % (told, slowest * 1000))
 
 
 def within_a_count(counts, first, slack=1):
