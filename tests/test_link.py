@@ -10,6 +10,7 @@ import pytest
 import rcl
 from rcl.hw.link import UNHEARD
 from rcl.board import CLOCK_HZ
+from rcl.hw import protocol as P
 from rcl.hw.protocol import LinkError
 
 LEGS = "RERB 6 INCHES FORWARD 90 DEGREES LEFT 6 INCHES FORWARD"
@@ -110,6 +111,21 @@ def test_before_timer_0_ticks_a_lockstep_board_does_each_port_write_at_the_hosts
     setup = [(t - server.hello_at, p, v) for t, p, v in list(server.board.port_log)[:27]]
     assert setup[0][1:] == (0xFF56, 0xC009) and setup[-1][0] < 10_000 * us + setup[0][0]
     assert setup == [(t // us * us, p, v) for t, p, v in list(sim.board.port_log)[:27]]
+
+
+def test_a_corrupted_len_at_an_idle_prompt_costs_the_board_no_more_than_50_ms_of_pings(linked):
+    # At the prompt only the reader's PINGs (6 bytes, every 100 ms) go out.
+    # A PING whose LEN turned 0 -> 32 claims 38 bytes: waited for, it would
+    # hide the next five PINGs, half a second, and trip the board's 250 ms
+    # watchdog though we never fell silent (seen on a busy PyPy run).
+    m = linked("rclsim://")
+    server = m.board.port.server
+    ping = P.frame(0, "PING")
+    m.board.send(ping[:1] + bytes((32,)) + ping[2:])
+    time.sleep(0.6)                                 # at the prompt, PINGs only
+    assert server.stats["watchdog"] == 0 and server.reader.bad >= 1
+    m.evaluate("RERB 3 INCHES FORWARD")
+    assert near(m.sim.wheel_counts, plain("RERB 3 INCHES FORWARD"))
 
 
 def test_a_cut_link_stops_the_move_and_the_board_opens_its_relays_within_250_ms(linked):

@@ -107,3 +107,38 @@ def test_a_good_frame_whose_payload_does_not_fit_is_kept_for_a_refusal_when_aske
     assert P.FrameReader().feed(data) == []
     (f,) = P.FrameReader(keep_bad=True).feed(data)
     assert f.name == "OUT8" and f.seq == 1 and f.values is None and "too short" in f.error
+
+
+def bad_len(frame, length):
+    """The frame with its LEN byte corrupted to `length` (the CRC not mended)."""
+    return frame[:1] + bytes((length,)) + frame[2:]
+
+
+def test_a_frame_still_incomplete_50_ms_after_its_sync_is_dropped_and_the_frames_it_hid_are_found():
+    ping = P.frame(0, "PING")
+    reader = P.FrameReader()
+    # a PING whose LEN turned 0 -> 32 (bit 5) claims 38 bytes: 5 more PINGs
+    assert reader.feed(bad_len(ping, 32), now=0.000) == []
+    assert reader.feed(ping, now=0.049) == []                # 49 ms: still waited for
+    got = reader.feed(ping, now=0.100)                      # 100 ms: dropped; both PINGs found
+    assert [f.name for f in got] == ["PING", "PING"] and reader.bad == 1
+    assert reader.feed(ping, now=0.150)[0].name == "PING"   # in step again
+
+
+def test_without_the_rule_the_same_corrupted_len_hides_five_pings_as_section_1_warns():
+    ping = P.frame(0, "PING")
+    reader = P.FrameReader()                              # no clock: waits however long
+    got = reader.feed(bad_len(ping, 32))
+    for _ in range(5):
+        got += reader.feed(ping)
+    assert got == []
+    assert len(reader.feed(ping)) == 6                   # the 38th byte: all six at once
+
+
+def test_a_frame_split_between_two_reads_by_a_long_stall_is_still_taken_whole():
+    ack = P.frame(7, "ACK", ack=7)
+    reader = P.FrameReader()
+    assert reader.feed(ack[:3], now=0.0) == []
+    # our stall: the rest was waiting, and is read before the gap is judged
+    (f,) = reader.feed(ack[3:], now=0.400)
+    assert f.name == "ACK" and reader.bad == 0

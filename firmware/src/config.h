@@ -22,6 +22,7 @@
 #define HEARTBEAT_US 50000UL
 #define HOLD_HEARTBEAT_US 10000UL   /* native board waiting for the host (hal.h) */
 #define WATCHDOG_US 250000UL
+#define FRAME_GAP_US 50000UL       /* a frame incomplete this long after its SYNC is none */
 #define TICK_US 10000U              /* reported in IDENTIFY: RCL's rate, in whole us */
 /* The shortest tick the board serves, in half-us: the wire carries the
  * longest TICK (26 bytes) in 2.3 ms at 115200 baud. A shorter period

@@ -21,6 +21,8 @@ typedef struct saved_frame {
 static struct {
     uint8_t rx_buf[2 * FRAME_MAX]; /* the bytes held are rx_buf[rx_at, rx_at + rx_n) */
     uint8_t rx_at, rx_n;
+    uint8_t rx_waiting;             /* the frame at rx_at is incomplete ... */
+    uint32_t rx_since_us;           /* ... since this link time */
     uint8_t expected;               /* the host's next SEQ */
     uint8_t send_seq;               /* the board's next SEQ */
     saved_frame window[WINDOW];     /* by SEQ mod WINDOW, for NAK */
@@ -301,6 +303,8 @@ static void drop(uint8_t n)
     k.rx_n = (uint8_t)(k.rx_n - n);
     if (k.rx_n == 0)
         k.rx_at = 0;
+    if (n)
+        k.rx_waiting = 0;           /* another frame, if any, is at the front */
 }
 
 /* Section 1's receiver over the bytes held: a bad frame loses only its
@@ -323,8 +327,13 @@ static void scan(void)
             continue;
         }
         need = (uint8_t)(rx[1] + 6);
-        if (k.rx_n < need)
+        if (k.rx_n < need) {
+            if (!k.rx_waiting) {
+                k.rx_waiting = 1;
+                k.rx_since_us = hal_link_micros();
+            }
             return;
+        }
         crc = (uint16_t)(rx[need - 2] << 8 | rx[need - 1]);
         /* the type first: garbage rarely has a known one, and the CRC of a
          * 70-byte candidate is the receiver's only real cost */
@@ -345,6 +354,19 @@ void link_rx(uint8_t byte)
     }
     k.rx_buf[k.rx_at + k.rx_n++] = byte;    /* scan leaves under FRAME_MAX held */
     scan();
+}
+
+/* The caller found no byte waiting. A frame still incomplete FRAME_GAP_US
+ * after its SYNC came is no frame (a corrupted LEN, section 1 step 3): a
+ * PING whose LEN turned 0 -> 32 would otherwise hide the next five PINGs
+ * from the watchdog. Judged only here, with the line read empty, so a
+ * frame whose bytes were all waiting is never cut short. */
+void link_rx_idle(void)
+{
+    if (k.rx_waiting && hal_link_micros() - k.rx_since_us >= FRAME_GAP_US) {
+        drop(1);
+        scan();
+    }
 }
 
 /* ------------------------------------------------------------- timing */

@@ -12,7 +12,7 @@ int main(int argc, char **argv)
     board_power_on();
     link_init();
     for (;;) {
-        int c;
+        int c = -1;
         uint8_t busy = 0;
 
         /* a bounded helping of input, then the timers: a flood of
@@ -21,6 +21,8 @@ int main(int argc, char **argv)
             link_rx((uint8_t)c);
             busy = 1;
         }
+        if (c < 0)
+            link_rx_idle();         /* everything waiting was read */
         board_poll();
         link_poll();
         hal_feed_watchdog();        /* a pass done: the loop is alive */

@@ -285,10 +285,9 @@ class LinkBoard(Board):
                 return
             live = self.live
             at = live.look()                  # everything waiting is read: judge now
-            if data:
-                self.bytes_in += len(data)
-                for f in reader.feed(data):
-                    self.dispatch(f, live)
+            self.bytes_in += len(data)
+            for f in reader.feed(data, live.looked_at):
+                self.dispatch(f, live)
             if time.monotonic() - self.last_tx > P.KEEPALIVE_MS / 1000:
                 self.send(P.frame(0, "PING"))
             if not self.session.asking:

@@ -21,6 +21,7 @@ from rcl.errors import RclError
 VERSION = 1                 # protocol version: HELLO and IDENTIFY carry it
 SYNC = 0xA5
 MAX_PAYLOAD = 64          # small, so a corrupted LEN delays the resync little
+FRAME_GAP_MS = 50           # a frame still incomplete this long after its SYNC is no frame
 HEADER, TRAILER = 4, 2      # SYNC LEN SEQ TYPE, then CRC
 WATCHDOG_MS = 250           # board: no valid frame from the host this long -> safe state
 HEARTBEAT_MS = 50           # board: a HEARTBEAT at least this often when not ticking
@@ -207,17 +208,30 @@ class FrameReader:
     the next SYNC, so it resynchronises on its own; a frame is only ever
     returned whole and with a good CRC. A good frame whose payload does not
     fit its message is dropped, or with keep_bad returned with `error` set
-    and no values (a board answers it REFUSED, section 1 step 5)."""
+    and no values (a board answers it REFUSED, section 1 step 5).
 
-    def __init__(self, types=None, keep_bad=False):
+    A frame is written whole, so its bytes come together. One still
+    incomplete FRAME_GAP_MS after its SYNC was read is no frame (a
+    corrupted LEN, section 1 step 3): without that rule a PING whose LEN
+    turned from 0 into 32 would hide the next five PINGs, half a second,
+    from a board whose watchdog waits 250 ms. It is judged only where the caller
+    says `now` and has read everything waiting, so a frame that a stall of
+    ours split between two reads is still taken whole."""
+
+    def __init__(self, types=None, keep_bad=False, gap=FRAME_GAP_MS / 1000):
         self.buf = bytearray()
-        self.types, self.keep_bad = types, keep_bad
+        self.types, self.keep_bad, self.gap = types, keep_bad, gap
         self.bad = 0               # frames rejected: CRC, unknown type, payload
         self.skipped = 0           # bytes dropped looking for SYNC
+        self.waiting_since = None  # when the frame at buf[0] was found incomplete
+        self.now = None
 
-    def feed(self, data):
-        """Add received bytes; -> the complete good frames among them."""
+    def feed(self, data, now=None):
+        """Add received bytes, everything that was waiting, read at `now`
+        (seconds; None: no clock, a frame is waited for however long);
+        -> the complete good frames among them."""
         self.buf += data
+        self.now = now
         frames = []
         while True:
             got = self._next()
@@ -233,6 +247,7 @@ class FrameReader:
                 drop = len(buf) if start < 0 else start
                 self.skipped += drop
                 del buf[:drop]
+                self.waiting_since = None
                 continue
             if len(buf) < 2:
                 return None
@@ -242,7 +257,10 @@ class FrameReader:
                 continue
             end = HEADER + length + TRAILER
             if len(buf) < end:
-                return None
+                if not self.waited_too_long():
+                    return None
+                self._drop_one()
+                continue
             crc = (buf[end - 2] << 8) | buf[end - 1]
             msg = BY_ID.get(buf[3])
             known = msg is not None and (self.types is None or msg.id in self.types)
@@ -251,6 +269,7 @@ class FrameReader:
                 continue
             seq, payload = buf[2], bytes(buf[HEADER:end - 2])
             del buf[:end]
+            self.waiting_since = None
             try:
                 return Frame(seq, msg, msg.decode(payload))
             except ProtocolError as e:
@@ -259,10 +278,19 @@ class FrameReader:
                     return Frame(seq, msg, None, error=str(e))
         return None
 
+    def waited_too_long(self):
+        """The frame at buf[0] is incomplete: has it been for FRAME_GAP_MS?"""
+        if self.now is None:
+            return False
+        if self.waiting_since is None:
+            self.waiting_since = self.now
+        return self.now - self.waiting_since >= self.gap
+
     def _drop_one(self):
         self.bad += 1
         self.skipped += 1
         del self.buf[:1]
+        self.waiting_since = None
 
 
 def following(seq):

@@ -213,12 +213,13 @@ class BoardServer:
         self.cutting = cut
 
     def receive(self, data):
-        """Bytes from the host."""
+        """Bytes from the host: everything that was waiting (b"": nothing
+        was, and a frame left incomplete too long is dropped, section 1)."""
         self.run_until(self.clock.now())
         if self.cut():
             return
         self.stats["bytes_in"] += len(data)
-        for f in self.reader.feed(self.garble(data)):
+        for f in self.reader.feed(self.garble(data), time.monotonic()):
             self.handle(f)
         self.watchdog(time.monotonic())
 
@@ -463,6 +464,8 @@ class BoardServer:
                     return "closed"
                 if data:
                     self.receive(data)
+            else:
+                self.receive(b"")
             self.run_until(self.clock.now())
             self.watchdog(time.monotonic())
             if self.cut() and on_idle == "close":
