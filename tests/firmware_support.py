@@ -503,7 +503,7 @@ def uno_moved(moved, expected, tolerance, figures, aways_before=0):
     each tick, at most 50 ms (UNO_PATIENCE); one it gave up on while a
     wheel was driven let the wheels run on without the host's next writes
     (`aways_moving`, counted since `aways_before`): a host process not run
-    in time, the machine's doing, which conftest.py runs once more."""
+    in time, the machine's doing, which conftest.py runs again."""
     away = figures["aways_moving"] - aways_before
     if away and not within(moved, expected, tolerance):
         raise Starved("moved %s for %s: the harness gave up waiting for the host %d time(s)"

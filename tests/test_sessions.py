@@ -146,7 +146,7 @@ def session(where, image, command=FIRST):
     machine with CPU hogs beside it) is a session the board rightly ended,
     motors off: the next host starts one again, as a user would, once the
     wheels stand still, and its counts are asserted as any session's. A
-    third in a row raises Starved: the whole test runs once more."""
+    third in a row raises Starved: the whole test runs again."""
     for attempt in range(STALLS_ALLOWED + 1):
         m = rcl.open(port=where, image=image)
         try:
@@ -154,7 +154,7 @@ def session(where, image, command=FIRST):
             return Counts(left, right, m.board.slowest_answer)
         except rcl.ForthError as e:   # say what the link saw (a loaded machine: Link lost)
             if e.code == HOST_TOO_SLOW and attempt == STALLS_ALLOWED:
-                # starved session after starved session: the test runs once more
+                # starved session after starved session: the test runs again
                 raise Starved("%s; %s" % (e.message, m.board.status())) from None
             if e.code != HOST_TOO_SLOW:
                 # the error itself, its code kept: Link lost is rcl's verdict
@@ -213,7 +213,7 @@ def one_inch(kind, counts):
 def off(kind, told, slowest):
     """Counts were off. After a host answered later than the board waits
     (this process not run, beside CPU hogs) that is the machine's doing:
-    Starved, run once more; else the assertion fails."""
+    Starved, run again; else the assertion fails."""
     if slowest > PATIENCE[kind]:
         raise Starved("%s: a tick answered after %d ms, past the %s board's %d ms"
                       % (told, slowest * 1000, kind, PATIENCE[kind] * 1000))
