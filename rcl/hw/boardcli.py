@@ -202,7 +202,7 @@ class Served:
                     # each HELLO gets the refusal again: a host's port may
                     # drop what came before it looked (pyserial's socket://
                     # empties its input as it opens)
-                    if any(f.name == "HELLO" for f in reader.feed(data)):
+                    if any(f.name == "HELLO" for f in reader.feed(data, time.monotonic())):
                         sock.sendall(REFUSED)
                 gone = True                 # the newcomer closed its end
             except (BlockingIOError, InterruptedError):
