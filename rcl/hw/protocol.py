@@ -214,9 +214,9 @@ class FrameReader:
     incomplete FRAME_GAP_MS after its SYNC was read is no frame (a
     corrupted LEN, section 1 step 3): without that rule a PING whose LEN
     turned from 0 into 32 would hide the next five PINGs, half a second,
-    from a board whose watchdog waits 250 ms. It is judged only where the caller
-    says `now` and has read everything waiting, so a frame that a stall of
-    ours split between two reads is still taken whole."""
+    from a board whose watchdog waits 250 ms. It is judged only where the
+    caller says `now` and has read everything waiting, so a frame that a
+    stall of ours split between two reads is still taken whole."""
 
     def __init__(self, types=None, keep_bad=False, gap=FRAME_GAP_MS / 1000):
         self.buf = bytearray()
