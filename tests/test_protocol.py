@@ -125,9 +125,9 @@ def test_a_frame_still_incomplete_50_ms_after_its_sync_is_dropped_and_the_frames
     assert reader.feed(ping, now=0.150)[0].name == "PING"   # in step again
 
 
-def test_without_the_rule_the_same_corrupted_len_hides_five_pings_as_section_1_warns():
+def test_a_reader_without_a_clock_the_hosts_waits_for_a_frame_however_long():
     ping = P.frame(0, "PING")
-    reader = P.FrameReader()                              # no clock: waits however long
+    reader = P.FrameReader()          # the host's: a board may stall mid-frame (section 1)
     got = reader.feed(bad_len(ping, 32))
     for _ in range(5):
         got += reader.feed(ping)

@@ -210,13 +210,15 @@ class FrameReader:
     fit its message is dropped, or with keep_bad returned with `error` set
     and no values (a board answers it REFUSED, section 1 step 5).
 
-    A frame is written whole, so its bytes come together. One still
-    incomplete FRAME_GAP_MS after its SYNC was read is no frame (a
-    corrupted LEN, section 1 step 3): without that rule a PING whose LEN
-    turned from 0 into 32 would hide the next five PINGs, half a second,
-    from a board whose watchdog waits 250 ms. It is judged only where the
-    caller says `now` and has read everything waiting, so a frame that a
-    stall of ours split between two reads is still taken whole."""
+    A board's reader is given `now`: the host writes each frame whole, so
+    its bytes come together, and one still incomplete FRAME_GAP_MS after
+    its SYNC was read is no frame (a corrupted LEN, section 1 step 3).
+    Without that rule a PING whose LEN turned from 0 into 32 would hide
+    the next five PINGs, half a second, from a board whose watchdog waits
+    250 ms. It is judged only after the caller has read everything
+    waiting, so a frame that a stall of the board's split between two
+    reads is still taken whole. The host's reader has no `now`: a board
+    may write a frame byte by byte, and a simulated one stall mid-frame."""
 
     def __init__(self, types=None, keep_bad=False, gap=FRAME_GAP_MS / 1000):
         self.buf = bytearray()
