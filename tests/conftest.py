@@ -35,7 +35,6 @@ REAL_TIME = ("test_console_pty.py", "test_repl_pty.py", "test_ctrl_c_pty.py",
 # 250 ms and more, in 4 tests of 54 (docs/testing.md); one board at a time,
 # none.
 ONE_BOARD_AT_A_TIME = ("test_firmware_", "test_sessions.py", "conformance")
-HOST_NICE = -5      # their host's priority (below): above CPU hogs, below the Uno's -10
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -162,30 +161,6 @@ def _no_collection_pauses_in_real_time(request):
         yield
     finally:
         gc.enable()
-
-
-@pytest.fixture(autouse=True)
-def _the_host_of_a_board_program_raised(request):
-    """A test of a board program (ONE_BOARD_AT_A_TIME: the Uno, the native
-    firmware, rcl-board) is the host of a board in real time: its thread,
-    and the threads and boards it starts, run at nice -5 where the tests
-    may set that (root), as the Uno's process runs at -10. Beside two CPU
-    hogs a PyPy host of the Uno, at 0, went unrun for up to 1.8 s and
-    starved in three runs in a row (docs/testing.md). Back to 0 after."""
-    board = any(part in request.node.nodeid for part in ONE_BOARD_AT_A_TIME)
-    before = os.getpriority(os.PRIO_PROCESS, 0)
-    try:
-        if board:
-            os.setpriority(os.PRIO_PROCESS, 0, HOST_NICE)     # this thread (Linux)
-    except OSError:
-        pass
-    try:
-        yield
-    finally:
-        try:
-            os.setpriority(os.PRIO_PROCESS, 0, before)
-        except OSError:
-            pass
 
 
 def pytest_configure(config):
