@@ -136,32 +136,33 @@ def image(tmp_path_factory):
 
 
 HOST_TOO_SLOW = -293
+STARVED = (-292, HOST_TOO_SLOW)      # Link lost, Host too slow: rcl's verdicts that time ran out
 STALLS_ALLOWED = 2                   # a session's, in a row
 
 
 def session(where, image, command=FIRST):
     """One host: connect, the command, the counts at rest, leave; -> counts.
-    A session whose host measured its own stall past the board's watchdog
-    (` Host too slow `: this process not scheduled for 250 ms, as on a
-    machine with CPU hogs beside it) is a session the board rightly ended,
-    motors off: the next host starts one again, as a user would, once the
-    wheels stand still, and its counts are asserted as any session's. A
-    third in a row raises Starved: the whole test runs again."""
+    A session that rcl ended with its verdict that time ran out (STARVED:
+    ` Host too slow `, this process not scheduled for 250 ms, or ` Link
+    lost `, the board or we unheard for 250 ms, as on a machine with CPU
+    hogs beside it) is a session the board rightly ended, motors off: the
+    next host starts one again, as a user would, once the wheels stand
+    still, and its counts are asserted as any session's. A third in a row
+    raises Starved: the whole test runs again (conftest.py)."""
     for attempt in range(STALLS_ALLOWED + 1):
         m = rcl.open(port=where, image=image)
         try:
             left, right = (int(x) for x in m.evaluate(command + READ).split())
             return Counts(left, right, m.board.slowest_answer)
         except rcl.ForthError as e:   # say what the link saw (a loaded machine: Link lost)
-            if e.code == HOST_TOO_SLOW and attempt == STALLS_ALLOWED:
-                # starved session after starved session: the test runs again
-                raise Starved("%s; %s" % (e.message, m.board.status())) from None
-            if e.code != HOST_TOO_SLOW:
-                # the error itself, its code kept: Link lost is rcl's verdict
-                # that the board went unheard, run again as such (conftest.py)
-                e.message = "%s; %s" % (e.message, m.board.status())
+            told = "%s; %s" % (e.message, m.board.status())
+            if e.code not in STARVED:
+                e.message = told                  # the error itself, its code kept
                 raise
-            print("\nsession again after: %s; %s" % (e.message, m.board.status()))
+            if attempt == STALLS_ALLOWED:
+                # starved session after starved session: the test runs again
+                raise Starved(told) from None
+            print("\nsession again after: %s" % told)
         finally:
             m.board.close()
         at_rest(where, image)
