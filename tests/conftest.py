@@ -14,7 +14,7 @@ from _pytest.runner import runtestprotocol
 import suite_size
 from rcl.errors import ForthError
 from rcl.hw.link import LinkLost
-from starved import Starved
+from starved import TIME_RAN_OUT, Starved
 
 pytest_plugins = ["pytester"]
 _cache = None
@@ -57,7 +57,6 @@ def pytest_collection_modifyitems(config, items):
 # to RUNS runs in all, and the summary names it; so does a test that found
 # its own process was not run in time (starved.py). Any other failure, or
 # a starved last run, stands.
-STARVED = (-292, -293)
 RUNS = 3          # a PyPy host of the Uno beside two hogs was starved twice in a row
 
 
@@ -68,7 +67,7 @@ def pytest_runtest_makereport(item, call):
     error = call.excinfo.value if call.excinfo is not None else None
     report.starved = (report.failed and call.when == "call"
                       and (isinstance(error, (Starved, LinkLost))
-                           or isinstance(error, ForthError) and error.code in STARVED))
+                           or isinstance(error, ForthError) and error.code in TIME_RAN_OUT))
     if report.starved:
         # the first run's error, and for a lost link its cause (silent, a frame gone)
         why = getattr(error, "why", None)
@@ -78,7 +77,7 @@ def pytest_runtest_makereport(item, call):
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_runtest_protocol(item, nextitem):
-    """A real-time test that failed starved (STARVED) runs again, up to
+    """A real-time test that failed starved (TIME_RAN_OUT) runs again, up to
     RUNS runs in all."""
     if item.get_closest_marker("real_time") is None:
         return None

@@ -287,7 +287,6 @@ def test_a_command_typed_soon_after_the_link_was_lost_at_the_prompt_is_stopped_n
 
 
 def test_a_free_running_served_board_drops_clock_unanswered_as_an_unknown_type():
-    from rcl.hw import protocol as P
     from rcl.hw.server import BoardServer
     server = BoardServer(lockstep=False)
     server.receive(P.frame(0, "HELLO", version=1) + P.frame(1, "CLOCK", us=40_416)

@@ -38,7 +38,7 @@ import rcl
 from rcl.hw import protocol as P
 from firmware_support import (UNO_PATIENCE, BoardProcess, harness_built, native_program,
                               uno_image)
-from starved import Starved
+from starved import TIME_RAN_OUT, Starved
 from suite_size import scaled
 
 SESSIONS = scaled(20, 5)
@@ -135,14 +135,12 @@ def image(tmp_path_factory):
     return str(path)
 
 
-HOST_TOO_SLOW = -293
-STARVED = (-292, HOST_TOO_SLOW)      # Link lost, Host too slow: rcl's verdicts that time ran out
 STALLS_ALLOWED = 2                   # a session's, in a row
 
 
 def session(where, image, command=FIRST):
     """One host: connect, the command, the counts at rest, leave; -> counts.
-    A session that rcl ended with its verdict that time ran out (STARVED:
+    A session that rcl ended with its verdict that time ran out (TIME_RAN_OUT:
     ` Host too slow `, this process not scheduled for 250 ms, or ` Link
     lost `, the board or we unheard for 250 ms, as on a machine with CPU
     hogs beside it) is a session the board rightly ended, motors off: the
@@ -156,7 +154,7 @@ def session(where, image, command=FIRST):
             return Counts(left, right, m.board.slowest_answer)
         except rcl.ForthError as e:   # say what the link saw (a loaded machine: Link lost)
             told = "%s; %s" % (e.message, m.board.status())
-            if e.code not in STARVED:
+            if e.code not in TIME_RAN_OUT:
                 e.message = told                  # the error itself, its code kept
                 raise
             if attempt == STALLS_ALLOWED:
