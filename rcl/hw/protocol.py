@@ -226,22 +226,20 @@ class FrameReader:
         self.bad = 0               # frames rejected: CRC, unknown type, payload
         self.skipped = 0           # bytes dropped looking for SYNC
         self.waiting_since = None  # when the frame at buf[0] was found incomplete
-        self.now = None
 
     def feed(self, data, now=None):
         """Add received bytes, everything that was waiting, read at `now`
         (seconds; None: no clock, a frame is waited for however long);
         -> the complete good frames among them."""
         self.buf += data
-        self.now = now
         frames = []
         while True:
-            got = self._next()
+            got = self._next(now)
             if got is None:
                 return frames
             frames.append(got)
 
-    def _next(self):
+    def _next(self, now):
         buf = self.buf
         while buf:
             if buf[0] != SYNC:
@@ -259,7 +257,7 @@ class FrameReader:
                 continue
             end = HEADER + length + TRAILER
             if len(buf) < end:
-                if not self.waited_too_long():
+                if not self.waited_too_long(now):
                     return None
                 self._drop_one()
                 continue
@@ -280,13 +278,14 @@ class FrameReader:
                     return Frame(seq, msg, None, error=str(e))
         return None
 
-    def waited_too_long(self):
-        """The frame at buf[0] is incomplete: has it been for FRAME_GAP_MS?"""
-        if self.now is None:
+    def waited_too_long(self, now):
+        """The frame at buf[0] is incomplete: has it been for FRAME_GAP_MS
+        as of `now` (None: no clock, never)?"""
+        if now is None:
             return False
         if self.waiting_since is None:
-            self.waiting_since = self.now
-        return self.now - self.waiting_since >= self.gap
+            self.waiting_since = now
+        return now - self.waiting_since >= self.gap
 
     def _drop_one(self):
         self.bad += 1
