@@ -9,6 +9,7 @@ import sys
 import pytest
 
 import rcl
+from starved import Starved
 
 LISTING1 = os.path.join(rcl.SCREENS, "examples", "listing1.fs")
 
@@ -63,6 +64,16 @@ def rcl_cli(*args, stdin=""):
 REST = "300 MS"
 
 
+def finished(run):
+    """Assert the rcl child ended well. One that ended with rcl's verdict
+    that time ran out (Link lost, Host too slow: a board or a host not run
+    for 250 ms beside CPU hogs) raises Starved, as that verdict does in
+    this process (conftest.py runs the test again)."""
+    if run.returncode != 0 and any(v in run.stderr for v in (": Link lost", ": Host too slow")):
+        raise Starved(run.stderr.strip().splitlines()[0])
+    assert run.returncode == 0, run.stderr
+
+
 def listing1_counts():
     m = rcl.open()
     m.include(LISTING1)
@@ -74,7 +85,7 @@ def test_listing_1_over_a_pty_ends_as_over_rclsim_and_within_2_counts_of_the_sim
     board = serve("--pty", "--rate", "8")
     assert board.where.startswith("/dev/")
     run = rcl_cli("--port", board.where, LISTING1, "-e", REST)
-    assert run.returncode == 0, run.stderr
+    finished(run)
     report = board.stop()
     m = rcl.open(port="rclsim://?rate=16")       # lockstep: the frames decide, not the line
     m.include(LISTING1)
@@ -92,7 +103,7 @@ def test_a_short_square_over_tcp_ends_where_the_simulation_ends(serve):
     host_port = board.where.rsplit(" ", 1)[1]
     square = "RERB 3 INCHES FORWARD 90 DEGREES LEFT FORWARD LEFT FORWARD LEFT FORWARD LEFT"
     run = rcl_cli("--port", "socket://" + host_port, "-e", square + " " + REST)
-    assert run.returncode == 0, run.stderr
+    finished(run)
     report = board.stop()
     m = rcl.open()
     m.evaluate(square + " " + REST)
@@ -106,7 +117,7 @@ def test_terminal_noise_on_the_pty_before_rcl_connects_is_skipped(serve):
     os.write(fd, b"ATZ\r\n+++ATH0\r\n\x1b[2J\xa5\xff\xa5\x40" + bytes(range(256)))
     os.close(fd)
     run = rcl_cli("--port", board.where, "-e", "HEX 8A PC@ . BYE")
-    assert run.returncode == 0, run.stderr
+    finished(run)
     assert run.stdout.split()[-1] == rcl.open().evaluate("HEX 8A PC@ .").split()[0]
     assert board.proc.poll() is None                 # the board did not crash
     assert board.stop()["rejected_frames"] > 0
@@ -146,7 +157,7 @@ def test_rcl_board_help_explains_every_option():
 
 def test_rcl_usb_sim_drives_the_simulated_usb_board():
     run = rcl_cli("--usb", "sim", "-e", "RERB 2 INCHES FORWARD TICKS@ D. BYE")
-    assert run.returncode == 0, run.stderr
+    finished(run)
 
 
 def test_rcl_list_ports_lists_and_never_fails():
